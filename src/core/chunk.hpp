@@ -1,0 +1,30 @@
+#pragma once
+// The unit every capture source produces: the bytes one read() returned, stamped with the
+// time the read completed, which is when the LAST byte had finished arriving.
+#include <cstdint>
+#include <span>
+
+#include "core/time.hpp"
+
+namespace rtu {
+
+// Per-byte line conditions, as a bit mask. A source that cannot see them leaves 0.
+enum LineError : std::uint8_t {
+  kLineOk = 0,
+  kParityError = 1U << 0U,
+  kFramingError = 1U << 1U,
+  kBreak = 1U << 2U,
+  kOverrun = 1U << 3U,
+};
+
+struct Chunk {
+  Nanos t_end = 0;  // end of the last byte, on the input's clock
+  // Exact start of the first byte when the source measured it (logic analysers);
+  // kUnknownTime when only the read completion is known.
+  Nanos t_first_start = kUnknownTime;
+  std::span<const std::uint8_t> bytes;
+  std::span<const std::uint8_t> errors;  // LineError per byte, or empty when none
+  std::uint64_t origin = 0;  // where it came from in the input (line number or byte offset)
+};
+
+}  // namespace rtu

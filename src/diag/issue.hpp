@@ -1,0 +1,55 @@
+#pragma once
+// Issue ids and sets. A *violation* (bytes that are not a frame) becomes a noise record;
+// an issue is a *weird* on a record that is still shown. Keys come from issues.def only.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+namespace rtu {
+
+enum class Severity : std::uint8_t { kInfo, kWarning, kError };
+
+enum class IssueId : std::uint8_t {
+#define RTU_ISSUE(id, key, severity, summary) id,
+#include "diag/issues.def"
+#undef RTU_ISSUE
+  kCount
+};
+
+struct IssueInfo {
+  IssueId id;
+  std::string_view key;
+  Severity severity;
+  std::string_view summary;
+};
+
+std::span<const IssueInfo> issue_catalogue();
+const IssueInfo& issue_info(IssueId id);
+std::optional<IssueId> issue_from_key(std::string_view key);
+std::string_view severity_name(Severity s);
+
+// A small set of issues, iterated in catalogue order.
+class IssueSet {
+ public:
+  static_assert(static_cast<unsigned>(IssueId::kCount) <= 64);
+  void add(IssueId id) { bits_ |= bit(id); }
+  void remove(IssueId id) { bits_ &= ~bit(id); }
+  [[nodiscard]] bool has(IssueId id) const { return (bits_ & bit(id)) != 0; }
+  [[nodiscard]] bool empty() const { return bits_ == 0; }
+  [[nodiscard]] std::uint64_t bits() const { return bits_; }
+  void merge(IssueSet other) { bits_ |= other.bits_; }
+
+  template <typename Fn>
+  void for_each(Fn&& fn) const {
+    for (unsigned i = 0; i < static_cast<unsigned>(IssueId::kCount); ++i) {
+      if ((bits_ >> i) & 1U) fn(static_cast<IssueId>(i));
+    }
+  }
+
+ private:
+  static std::uint64_t bit(IssueId id) { return std::uint64_t{1} << static_cast<unsigned>(id); }
+  std::uint64_t bits_ = 0;
+};
+
+}  // namespace rtu

@@ -1,0 +1,20 @@
+#pragma once
+// Facts about a capture that every output states once, before the records.
+#include <string>
+
+#include "core/time.hpp"
+#include "serial/line_settings.hpp"
+
+namespace rtu {
+
+struct CaptureInfo {
+  std::string source;  // file path or port name
+  LineSettings line;
+  // Smallest silence the timestamps can show. Gaps below it are not observable, so
+  // t1.5/t3.5 issues are only reported where the silence in question is above it.
+  Nanos timing_resolution = 0;
+  bool per_byte_timing = false;  // every byte has its own timestamp
+  Nanos response_timeout = 1000 * kNanosPerMilli;
+};
+
+}  // namespace rtu

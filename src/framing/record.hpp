@@ -1,0 +1,65 @@
+#pragma once
+// What the framer emits: a frame (bytes that Modbus framing explains) or a noise record
+// (bytes that it does not). Every input byte ends up in exactly one record. Records own
+// their bytes in fixed storage, so nothing on the per-byte path allocates.
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "core/time.hpp"
+#include "diag/issue.hpp"
+#include "framing/capture_info.hpp"
+
+namespace rtu {
+
+inline constexpr std::size_t kMaxAdu = 256;  // MODBUS over Serial Line §2.5.1
+
+enum class Role : std::uint8_t { kUnknown, kRequest, kResponse };
+
+// Shapes a frame's length fits, as found by the framer (bit mask of these).
+enum ShapeFit : std::uint8_t {
+  kFitsNone = 0,
+  kFitsRequest = 1U << 0U,
+  kFitsResponse = 1U << 1U,
+};
+
+enum class RecordKind : std::uint8_t { kFrame, kNoise };
+
+struct Record {
+  RecordKind kind = RecordKind::kFrame;
+  std::uint64_t seq = 0;  // position in output order, from 0
+  Nanos t_start = 0;      // start of the first byte (best estimate)
+  Nanos t_end = 0;        // end of the last byte
+  // Silence between the previous record's last byte and this one's first byte, when the
+  // timestamps show it; kUnknownTime when timing is blurred (USB batching).
+  Nanos gap_before = kUnknownTime;
+  std::uint64_t origin = 0;  // input line / offset of the first byte (for messages)
+  std::array<std::uint8_t, kMaxAdu> storage{};
+  std::uint16_t size = 0;
+  std::uint8_t line_errors = 0;  // LineError bits seen on its bytes
+  std::uint8_t shape_fit = kFitsNone;
+  bool crc_ok = false;
+  IssueSet issues;
+
+  // Filled by the transaction tracker.
+  Role role = Role::kUnknown;
+  std::int64_t txn = -1;           // shared by a request and its response; -1 = none
+  Nanos latency = kUnknownTime;    // response only: request end → response start
+
+  [[nodiscard]] std::span<const std::uint8_t> bytes() const { return {storage.data(), size}; }
+  [[nodiscard]] std::uint8_t slave() const { return size > 0 ? storage[0] : 0; }
+  [[nodiscard]] std::uint8_t function() const { return size > 1 ? storage[1] : 0; }
+  [[nodiscard]] bool is_exception() const { return size > 1 && (storage[1] & 0x80U) != 0; }
+};
+
+// Receives records in time order.
+class RecordSink {
+ public:
+  virtual ~RecordSink() = default;
+  // Called once, before the first record.
+  virtual void on_capture(const CaptureInfo& info) { (void)info; }
+  virtual void on_record(Record& record) = 0;
+  virtual void on_finish() {}
+};
+
+}  // namespace rtu

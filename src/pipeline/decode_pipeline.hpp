@@ -1,0 +1,49 @@
+#pragma once
+// The one decode path shared by replay and live capture:
+//   chunks → Framer → TransactionTracker → RecordSink (text, JSONL, reports, exports).
+// It never reads a clock: all time comes from the chunks.
+#include <memory>
+
+#include "capture/chunk_source.hpp"
+#include "core/chunk.hpp"
+#include "framing/capture_info.hpp"
+#include "framing/record.hpp"
+
+namespace rtu {
+
+struct PipelineOptions {
+  LineSettings line;
+  Nanos response_timeout = 1000 * kNanosPerMilli;
+  // Timing resolution of the input; kUnknownTime = estimate it (see TimingEstimator).
+  Nanos timing_resolution = kUnknownTime;
+  bool per_byte_timing = false;
+};
+
+class DecodePipeline {
+ public:
+  DecodePipeline(const PipelineOptions& options, RecordSink& sink);
+  ~DecodePipeline();
+  DecodePipeline(const DecodePipeline&) = delete;
+  DecodePipeline& operator=(const DecodePipeline&) = delete;
+
+  // Header to the sink; called automatically before the first record if not called.
+  void start(const CaptureInfo& info);
+  void push(const Chunk& chunk);
+  // Flushes partial frames and open transactions.
+  void finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Replays a whole source: a first pass learns the timing resolution (bounded memory),
+// then the source is reopened by `reopen` and decoded. Line settings: `overrides` win
+// over what the file declares, which wins over the Modbus default 9600 8E1.
+struct LineOverrides {
+  std::optional<std::uint32_t> baud;
+  std::optional<Parity> parity;
+  std::optional<std::uint8_t> stop_bits;
+};
+
+}  // namespace rtu

@@ -24,6 +24,8 @@ class ChunkSource {
   // Known once the first chunk was read (or the end reached).
   [[nodiscard]] virtual std::optional<LineSettings> declared_settings() const { return std::nullopt; }
   [[nodiscard]] virtual TimingKind timing_kind() const { return TimingKind::kReadCompletion; }
+  // Finest step the timestamps are written with (e.g. 1 µs for 6 decimals); 0 = unknown.
+  [[nodiscard]] virtual Nanos timestamp_precision() const { return 0; }
   // Name for messages and output headers (usually the path).
   [[nodiscard]] virtual std::string name() const = 0;
 };

@@ -45,6 +45,8 @@ struct Record {
   Role role = Role::kUnknown;
   std::int64_t txn = -1;           // shared by a request and its response; -1 = none
   Nanos latency = kUnknownTime;    // response only: request end → response start
+  // For a response: its request, valid only during RecordSink::on_record. Else null.
+  const Record* request = nullptr;
 
   [[nodiscard]] std::span<const std::uint8_t> bytes() const { return {storage.data(), size}; }
   [[nodiscard]] std::uint8_t slave() const { return size > 0 ? storage[0] : 0; }

@@ -3,6 +3,8 @@
 //   chunks → Framer → TransactionTracker → RecordSink (text, JSONL, reports, exports).
 // It never reads a clock: all time comes from the chunks.
 #include <memory>
+#include <optional>
+#include <span>
 
 #include "capture/chunk_source.hpp"
 #include "core/chunk.hpp"
@@ -29,6 +31,10 @@ class DecodePipeline {
   // Header to the sink; called automatically before the first record if not called.
   void start(const CaptureInfo& info);
   void push(const Chunk& chunk);
+  // A frame whose boundaries are already known (e.g. imported from a pcap with
+  // LINKTYPE_WIRESHARK_UPPER_PDU): bypasses the framer, still CRC-checked and paired.
+  void push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
+                  std::uint64_t origin);
   // Flushes partial frames and open transactions.
   void finish();
 

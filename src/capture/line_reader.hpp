@@ -1,0 +1,46 @@
+#pragma once
+// Reads a text file line by line through one fixed buffer, so memory stays flat however long
+// the file is: after the longest line has been seen once, reading allocates nothing.
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace rtu {
+
+class LineReader {
+ public:
+  // Lines longer than this are unusable input (a text capture line holds one read() worth of
+  // bytes, a CSV row one byte); the limit keeps a corrupt file from eating memory.
+  static constexpr std::size_t kMaxLineLength = 1U << 20U;
+
+  // Opens `path`; throws InputError "PATH: cannot open: <strerror>" when that fails.
+  explicit LineReader(const std::string& path);
+
+  // The next line without its '\n' (and without a '\r' before it). The view stays valid until
+  // the next call. Returns false at the end of the file. Throws InputError on read errors and
+  // on lines longer than kMaxLineLength.
+  bool next(std::string_view& line);
+
+  // 1-based number of the line last returned by next().
+  [[nodiscard]] std::uint64_t line_number() const { return line_number_; }
+  [[nodiscard]] const std::string& path() const { return path_; }
+
+ private:
+  bool fill();
+
+  struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  std::string path_;
+  std::unique_ptr<std::FILE, FileCloser> file_;
+  std::unique_ptr<char[]> buffer_;
+  std::size_t begin_ = 0;  // unread data in buffer_ is [begin_, end_)
+  std::size_t end_ = 0;
+  bool eof_ = false;
+  std::string line_;  // holds a line that straddles two buffer fills
+  std::uint64_t line_number_ = 0;
+};
+
+}  // namespace rtu

@@ -1,0 +1,94 @@
+#include "capture/open_capture.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <string_view>
+#include <utility>
+
+#include "capture/input_error.hpp"
+#include "capture/saleae_reader.hpp"
+#include "capture/text_hex_reader.hpp"
+
+namespace rtu {
+namespace {
+
+// Enough for any header line we recognise and a few blank lines before a text capture.
+constexpr std::size_t kSniffSize = 4096;
+
+bool ends_with_ci(std::string_view s, std::string_view suffix) {
+  if (s.size() < suffix.size()) return false;
+  for (std::size_t i = 0; i < suffix.size(); ++i) {
+    char c = s[s.size() - suffix.size() + i];
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c + ('a' - 'A'));
+    if (c != suffix[i]) return false;
+  }
+  return true;
+}
+
+bool is_pcap_magic(std::string_view head) {
+  if (head.size() < 4) return false;
+  static constexpr std::array<std::string_view, 5> kMagics = {
+      std::string_view("\xD4\xC3\xB2\xA1", 4),  // pcap, µs, little-endian
+      std::string_view("\xA1\xB2\xC3\xD4", 4),  // pcap, µs, big-endian
+      std::string_view("\x4D\x3C\xB2\xA1", 4),  // pcap, ns, little-endian
+      std::string_view("\xA1\xB2\x3C\x4D", 4),  // pcap, ns, big-endian
+      std::string_view("\x0A\x0D\x0D\x0A", 4),  // pcapng Section Header Block
+  };
+  for (const auto magic : kMagics) {
+    if (head.substr(0, 4) == magic) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+CaptureFormat detect_capture_format(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+    throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+  std::array<char, kSniffSize> buffer{};
+  const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), file);
+  const bool read_failed = std::ferror(file) != 0;
+  const int read_errno = errno;
+  std::fclose(file);
+  if (read_failed)
+    throw InputError(fmt::format("{}: cannot read: {}", path, std::strerror(read_errno)));
+  const std::string_view head(buffer.data(), n);
+
+  if (is_pcap_magic(head)) return CaptureFormat::kPcap;
+  const std::string_view first_line = head.substr(0, head.find('\n'));
+  if (recognise_saleae_header(first_line) != SaleaeLayout::kNone) return CaptureFormat::kSaleaeCsv;
+  const std::size_t first = head.find_first_not_of(" \t\r\n");
+  if (first != std::string_view::npos) {
+    const char c = head[first];
+    if ((c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == '#') {
+      return CaptureFormat::kTextHex;
+    }
+  }
+  if (ends_with_ci(path, ".csv")) return CaptureFormat::kSaleaeCsv;
+  if (ends_with_ci(path, ".pcap") || ends_with_ci(path, ".pcapng") || ends_with_ci(path, ".cap")) {
+    return CaptureFormat::kPcap;
+  }
+  return CaptureFormat::kTextHex;
+}
+
+std::unique_ptr<ChunkSource> open_capture(const std::string& path, WarningSink warnings) {
+  switch (detect_capture_format(path)) {
+    case CaptureFormat::kSaleaeCsv:
+      return std::make_unique<SaleaeReader>(path, std::move(warnings));
+    case CaptureFormat::kPcap:
+      // Hook for the pcap/pcapng reader: replace this with its construction.
+      throw InputError(
+          fmt::format("{}: pcap import is not available in this build; expected a text hex capture "
+                      "(.hex, .txt) or a Saleae Logic export (.csv)",
+                      path));
+    case CaptureFormat::kTextHex: break;
+  }
+  return std::make_unique<TextHexReader>(path, std::move(warnings));
+}
+
+}  // namespace rtu

@@ -1,0 +1,29 @@
+#pragma once
+// Opens a capture file with the right reader.
+#include <memory>
+#include <string>
+
+#include "capture/capture_warnings.hpp"
+#include "capture/chunk_source.hpp"
+
+namespace rtu {
+
+enum class CaptureFormat : std::uint8_t { kTextHex, kSaleaeCsv, kPcap };
+
+// Chooses the format from the file's first bytes, falling back to its extension:
+// - pcap or pcapng magic number → kPcap;
+// - a first line that is a Saleae Logic export header (either layout, MP mode included so
+//   that its reader can say why it refuses it) → kSaleaeCsv;
+// - a first non-blank line that starts like a text hex line (a digit, sign, '.' or '#')
+//   → kTextHex;
+// - otherwise by extension: .csv → kSaleaeCsv, .pcap/.pcapng/.cap → kPcap, anything else
+//   → kTextHex, whose reader then says exactly where the content is not what it expects.
+// Throws InputError "PATH: cannot open: <strerror>" when the file cannot be read.
+CaptureFormat detect_capture_format(const std::string& path);
+
+// The reader for `path`. Throws InputError when the file cannot be opened or its format has no
+// reader here ("PATH: pcap import is not available ...").
+std::unique_ptr<ChunkSource> open_capture(const std::string& path,
+                                          WarningSink warnings = print_warning_to_stderr);
+
+}  // namespace rtu

@@ -1,0 +1,204 @@
+#include "capture/text_hex_reader.hpp"
+
+#include <fmt/format.h>
+
+#include <utility>
+
+#include "capture/decimal_time.hpp"
+#include "capture/found_text.hpp"
+#include "capture/input_error.hpp"
+
+namespace rtu {
+namespace {
+
+bool is_blank(char c) {
+  return c == ' ' || c == '\t';
+}
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+std::size_t skip_blanks(std::string_view line, std::size_t pos) {
+  while (pos < line.size() && is_blank(line[pos])) ++pos;
+  return pos;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c + 32) : c; };
+    if (lower(a[i]) != lower(b[i])) return false;
+  }
+  return true;
+}
+
+std::optional<std::uint32_t> parse_baud(std::string_view text) {
+  constexpr std::uint32_t kMaxBaud = 100'000'000;
+  if (text.empty()) return std::nullopt;
+  std::uint32_t value = 0;
+  for (const char c : text) {
+    if (c < '0' || c > '9') return std::nullopt;
+    value = value * 10U + static_cast<std::uint32_t>(c - '0');
+    if (value > kMaxBaud) return std::nullopt;
+  }
+  if (value == 0) return std::nullopt;
+  return value;
+}
+
+std::optional<Parity> parse_parity_word(std::string_view text) {
+  if (auto p = parse_parity(text)) return p;
+  if (iequals(text, "none")) return Parity::kNone;
+  if (iequals(text, "even")) return Parity::kEven;
+  if (iequals(text, "odd")) return Parity::kOdd;
+  return std::nullopt;
+}
+
+}  // namespace
+
+TextHexReader::TextHexReader(const std::string& path, WarningSink warnings)
+    : lines_(path), clamp_(path, std::move(warnings)) {
+  bytes_.reserve(4096);  // a read() rarely returns more; longer lines grow it once
+  // Read up to the first data line, so that the settings comments before it are known.
+  have_pending_ = read_data_line();
+}
+
+void TextHexReader::fail(std::size_t column0, std::string_view what) const {
+  throw InputError(
+      fmt::format("{}:{}:{}: {}", lines_.path(), lines_.line_number(), column0 + 1, what));
+}
+
+bool TextHexReader::next(Chunk& out) {
+  if (have_pending_) {
+    have_pending_ = false;
+  } else if (!read_data_line()) {
+    return false;
+  }
+  out.t_end = pending_t_;
+  out.t_first_start = kUnknownTime;
+  out.bytes = bytes_;
+  out.errors = {};
+  out.origin = pending_line_;
+  return true;
+}
+
+bool TextHexReader::read_data_line() {
+  std::string_view line;
+  while (lines_.next(line)) {
+    const std::size_t start = skip_blanks(line, 0);
+    if (start == line.size()) continue;
+    if (line[start] == '#') {
+      parse_comment(line, start);
+      continue;
+    }
+    parse_data(line, start);
+    seen_data_ = true;
+    return true;
+  }
+  clamp_.finish();
+  return false;
+}
+
+void TextHexReader::parse_data(std::string_view line, std::size_t start) {
+  const std::string_view stamp = word_at(line, start, '#');
+  const ParsedTime t = parse_decimal_seconds(stamp, /*allow_exponent=*/false);
+  if (t.status == ParsedTime::Status::kOutOfRange) {
+    fail(start, fmt::format("timestamp out of range (more than 292 years from the epoch), found {}",
+                            found_text(stamp)));
+  }
+  if (!t.ok()) {
+    fail(start, fmt::format("expected a timestamp in decimal seconds (like 12.345678), found {}",
+                            found_text(stamp)));
+  }
+  if (t.decimals > max_decimals_) max_decimals_ = t.decimals;
+
+  bytes_.clear();
+  std::size_t pos = start + stamp.size();
+  if (pos < line.size() && !is_blank(line[pos])) {
+    fail(pos, fmt::format("expected a space after the timestamp, found {}",
+                          found_text(word_at(line, pos))));
+  }
+  for (;;) {
+    pos = skip_blanks(line, pos);
+    if (pos == line.size() || line[pos] == '#') break;
+    const int high = hex_value(line[pos]);
+    const int low = pos + 1 < line.size() ? hex_value(line[pos + 1]) : -1;
+    if (high < 0 || low < 0) {
+      fail(pos,
+           fmt::format("expected hex byte pair, found {}", found_text(word_at(line, pos, '#'))));
+    }
+    bytes_.push_back(static_cast<std::uint8_t>((high << 4) | low));
+    pos += 2;
+  }
+  if (bytes_.empty()) {
+    fail(pos, fmt::format("expected hex bytes after the timestamp, found {}",
+                          found_text(word_at(line, pos))));
+  }
+  pending_line_ = lines_.line_number();
+  pending_t_ = clamp_.admit(t.ns, stamp, pending_line_);
+}
+
+void TextHexReader::parse_comment(std::string_view line, std::size_t hash_pos) {
+  std::size_t pos = hash_pos + 1;
+  for (;;) {
+    pos = skip_blanks(line, pos);
+    if (pos >= line.size()) break;
+    const std::string_view word = word_at(line, pos);
+    const std::size_t eq = word.find('=');
+    const std::string_view key = eq == std::string_view::npos ? word : word.substr(0, eq);
+    const std::string_view value = eq == std::string_view::npos ? "" : word.substr(eq + 1);
+    const std::size_t word_column = pos;
+    pos += word.size();
+    if (eq == std::string_view::npos) continue;  // free text
+    const std::size_t value_column = word_column + eq + 1;
+
+    PartialSettings next = settings_;
+    if (iequals(key, "baud")) {
+      const auto baud = parse_baud(value);
+      if (!baud) {
+        fail(value_column,
+             fmt::format("expected a baud rate (a whole number from 1 to 100000000), found {}",
+                         found_text(value)));
+      }
+      next.baud = baud;
+    } else if (iequals(key, "parity")) {
+      const auto parity = parse_parity_word(value);
+      if (!parity)
+        fail(value_column, fmt::format("expected parity N, E or O, found {}", found_text(value)));
+      next.parity = parity;
+    } else if (iequals(key, "stop")) {
+      if (value != "1" && value != "2") {
+        fail(value_column, fmt::format("expected stop bits 1 or 2, found {}", found_text(value)));
+      }
+      next.stop_bits = static_cast<std::uint8_t>(value[0] - '0');
+    } else {
+      continue;  // some other key=value in free text
+    }
+    const bool changes = next.baud != settings_.baud || next.parity != settings_.parity ||
+                         next.stop_bits != settings_.stop_bits;
+    if (seen_data_ && changes) {
+      fail(word_column,
+           fmt::format("line settings must come before the first data line; {} changes them",
+                       found_text(word)));
+    }
+    settings_ = next;
+  }
+}
+
+std::optional<LineSettings> TextHexReader::declared_settings() const {
+  if (!settings_.baud && !settings_.parity && !settings_.stop_bits) return std::nullopt;
+  LineSettings s;  // what the file does not say stays at the Modbus default
+  if (settings_.baud) s.baud = *settings_.baud;
+  if (settings_.parity) s.parity = *settings_.parity;
+  if (settings_.stop_bits) s.stop_bits = *settings_.stop_bits;
+  return s;
+}
+
+Nanos TextHexReader::timestamp_precision() const {
+  return max_decimals_ < 0 ? 0 : step_for_decimals(max_decimals_);
+}
+
+}  // namespace rtu

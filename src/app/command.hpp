@@ -2,7 +2,6 @@
 // Subcommands register themselves, so each lives in its own file (cmd_<name>.cpp) and
 // main.cpp never changes when one is added.
 #include <CLI/CLI.hpp>
-
 #include <functional>
 
 namespace rtu::app {

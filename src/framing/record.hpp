@@ -43,8 +43,8 @@ struct Record {
 
   // Filled by the transaction tracker.
   Role role = Role::kUnknown;
-  std::int64_t txn = -1;           // shared by a request and its response; -1 = none
-  Nanos latency = kUnknownTime;    // response only: request end → response start
+  std::int64_t txn = -1;         // shared by a request and its response; -1 = none
+  Nanos latency = kUnknownTime;  // response only: request end → response start
   // For a response: its request, valid only during RecordSink::on_record. Else null.
   const Record* request = nullptr;
 

@@ -107,6 +107,11 @@ void JsonWriter::null() {
   out_.append(std::string_view("null"));
 }
 
+void JsonWriter::value_raw(std::string_view json_text) {
+  separate();
+  out_.append(json_text);
+}
+
 void JsonWriter::hex(std::span<const std::uint8_t> bytes) {
   separate();
   out_.push_back('"');

@@ -31,6 +31,8 @@ class JsonWriter {
   void value_fixed(double x, int decimals);
   void value_double(double x);  // shortest round-trip form
   void null();
+  // A value already rendered as JSON (e.g. an exact decimal); written as is.
+  void value_raw(std::string_view json_text);
   void hex(std::span<const std::uint8_t> bytes);  // "0103..." lowercase, quoted
 
   template <typename T>

@@ -1,0 +1,38 @@
+#include "app/line_options.hpp"
+
+#include <fmt/format.h>
+
+#include "capture/input_error.hpp"
+
+namespace rtu::app {
+
+void LineOptions::add_to(CLI::App& command) {
+  command.add_option("--baud", baud, "Baud rate (default: from the file, else 9600)")
+      ->check(CLI::Range(50U, 20000000U));
+  command.add_option("--parity", parity, "Parity N|E|O (default: from the file, else E)");
+  command.add_option("--stop", stop_bits, "Stop bits 1|2 (default: from the file, else 1)")
+      ->check(CLI::IsMember({1U, 2U}));
+  command.add_option("--timeout-ms", timeout_ms, "Response timeout in ms (default 1000)")
+      ->check(CLI::PositiveNumber);
+  command
+      .add_option("--resolution-ms", resolution_ms,
+                  "Timing resolution of the capture in ms (default: estimated from the data)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+ReplayOptions LineOptions::to_replay_options() const {
+  ReplayOptions options;
+  options.overrides.baud = baud;
+  if (!parity.empty()) {
+    options.overrides.parity = parse_parity(parity);
+    if (!options.overrides.parity) {
+      throw InputError(fmt::format("--parity: expected N, E or O, found '{}'", parity));
+    }
+  }
+  if (stop_bits) options.overrides.stop_bits = static_cast<std::uint8_t>(*stop_bits);
+  options.response_timeout = static_cast<Nanos>(timeout_ms * 1e6);
+  if (resolution_ms) options.resolution = static_cast<Nanos>(*resolution_ms * 1e6);
+  return options;
+}
+
+}  // namespace rtu::app

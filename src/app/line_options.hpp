@@ -1,0 +1,24 @@
+#pragma once
+// Options shared by every command that decodes a capture: line settings, response timeout,
+// timing resolution.
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "pipeline/replay.hpp"
+
+namespace rtu::app {
+
+struct LineOptions {
+  std::optional<std::uint32_t> baud;
+  std::string parity;
+  std::optional<unsigned> stop_bits;
+  double timeout_ms = 1000.0;
+  std::optional<double> resolution_ms;
+
+  void add_to(CLI::App& command);
+  // Throws InputError for values CLI11 cannot check by itself.
+  [[nodiscard]] ReplayOptions to_replay_options() const;
+};
+
+}  // namespace rtu::app

@@ -1,0 +1,12 @@
+#pragma once
+// Checks that depend only on a frame's own bytes: the CRC verdict, which length rules the
+// frame fits (request / response shape), truncation. Shared by the framer and by frames
+// imported with known boundaries.
+#include "framing/record.hpp"
+
+namespace rtu {
+
+// Sets crc_ok, shape_fit and the kCrc / kTruncated issues of a frame record.
+void classify_frame(Record& frame);
+
+}  // namespace rtu

@@ -1,0 +1,376 @@
+#include "framing/framer.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <span>
+
+#include "core/crc16.hpp"
+#include "framing/frame_classifier.hpp"
+#include "modbus/frame_shape.hpp"
+#include "modbus/function_codes.hpp"
+
+namespace rtu {
+namespace {
+
+constexpr std::size_t kMinAdu = 4;  // address + function + CRC
+
+// Role order to try: the one the bus state expects first.
+struct RoleOrder {
+  Role first;
+  Role second;
+};
+
+}  // namespace
+
+Framer::Framer(const FramerConfig& config, RecordSink& out)
+    : config_(config),
+      out_(out),
+      char_time_(config.line.char_time()),
+      t1_5_(config.line.t1_5()),
+      t3_5_(config.line.t3_5()) {
+  noise_.kind = RecordKind::kNoise;
+}
+
+void Framer::expect_response_from(std::uint8_t slave, std::uint8_t function) {
+  expect_response_ = true;
+  expected_slave_ = slave;
+  expected_function_ = function;
+}
+
+void Framer::expect_request() {
+  expect_response_ = false;
+}
+
+void Framer::push(const Chunk& chunk) {
+  const std::size_t n = chunk.bytes.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t errors = chunk.errors.size() == n ? chunk.errors[i] : 0;
+    Nanos end = 0;
+    Nanos gap = kUnknownTime;
+    if (config_.per_byte_exact && chunk.t_first_start != kUnknownTime) {
+      // Measured start of the first byte; any further bytes follow back to back.
+      const Nanos start = chunk.t_first_start + static_cast<Nanos>(i) * char_time_;
+      end = start + char_time_;
+      if (last_byte_end_ != kUnknownTime) gap = std::max<Nanos>(0, start - last_byte_end_);
+    } else {
+      // The read completed when the last byte had arrived; earlier bytes arrived at the
+      // latest one character time apart, and never before the previous byte ended.
+      end = chunk.t_end - static_cast<Nanos>(n - 1 - i) * char_time_;
+      if (last_byte_end_ != kUnknownTime) {
+        end = std::max(end, last_byte_end_ + char_time_);
+        // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
+        if (i == 0) gap = end - char_time_ - last_byte_end_;
+      }
+    }
+    append_byte(chunk.bytes[i], errors, end, gap, chunk.origin);
+  }
+  decide(false);
+}
+
+void Framer::idle(Nanos now) {
+  if (buffered() > 0 && last_byte_end_ != kUnknownTime &&
+      now - last_byte_end_ >= t3_5_ + config_.resolution) {
+    decide(true);
+  }
+}
+
+void Framer::finish() {
+  decide(true);
+  flush_noise();
+}
+
+void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
+                         std::uint64_t origin) {
+  if (end_ == kWindow) {
+    // Slide the window back to the front; it never holds more than kMaxPending bytes.
+    const std::size_t n = buffered();
+    std::memmove(bytes_.data(), bytes_.data() + begin_, n);
+    std::copy(info_.begin() + static_cast<std::ptrdiff_t>(begin_),
+              info_.begin() + static_cast<std::ptrdiff_t>(end_), info_.begin());
+    begin_ = 0;
+    end_ = n;
+  }
+  bytes_[end_] = value;
+  info_[end_] = ByteInfo{t_end, gap_before, origin, errors};
+  ++end_;
+  last_byte_end_ = t_end;
+  if (buffered() >= kMaxPending) decide(false);
+}
+
+void Framer::decide(bool at_end) {
+  while (buffered() > 0) {
+    if (decide_head(at_end) == Verdict::kWait) break;
+  }
+}
+
+bool Framer::boundary_at(std::size_t pos) const {
+  if (pos >= buffered()) return false;
+  const Nanos gap = info_at(pos).gap_before;
+  return gap != kUnknownTime && gap - config_.resolution >= t3_5_;
+}
+
+bool Framer::plausible_start(std::size_t pos) const {
+  if (buffered() - pos < 2) return false;
+  const std::uint8_t slave = byte_at(pos);
+  const std::uint8_t function = byte_at(pos + 1);
+  const bool known_slave =
+      active_slaves_.test(slave) || (expect_response_ && slave == expected_slave_);
+  const std::uint8_t base = function & 0x7FU;
+  const bool known_function = is_public_function(base) || is_user_defined_function(base) ||
+                              (expect_response_ && base == (expected_function_ & 0x7FU));
+  return known_slave && known_function;
+}
+
+std::size_t Framer::predicted_length(std::size_t pos) const {
+  const std::span<const std::uint8_t> view(bytes_.data() + begin_ + pos, buffered() - pos);
+  const bool response_first = expect_response_ && view[0] == expected_slave_;
+  const Role order[2] = {response_first ? Role::kResponse : Role::kRequest,
+                         response_first ? Role::kRequest : Role::kResponse};
+  for (const Role role : order) {
+    const Shape shape = predict_shape(view, role);
+    if (shape.status == ShapeStatus::kLength) return shape.value;
+  }
+  return 0;
+}
+
+std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, bool* pending) const {
+  const std::size_t avail = buffered() - pos;
+  const std::size_t limit = std::min(avail, kMaxAdu);
+  std::uint16_t crc = kCrcInit;
+  for (std::size_t len = 1; len <= limit; ++len) {
+    if (len > 1 && boundary_at(pos + len - 1)) return 0;  // a frame ends at a silence
+    crc = crc16_update(crc, byte_at(pos + len - 1));
+    if (len < kMinAdu || crc != 0) continue;
+    const std::size_t next = pos + len;
+    if (next == buffered()) {
+      if (at_end) return len;
+      *pending = true;
+      return 0;
+    }
+    bool next_pending = false;
+    if (boundary_at(next) || confirmed_length(next, at_end, false, &next_pending) > 0) {
+      return len;
+    }
+  }
+  if (!at_end && avail < kMaxAdu) *pending = true;
+  return 0;
+}
+
+std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, bool allow_generic,
+                                     bool* pending) const {
+  const std::size_t avail = buffered() - pos;
+  if (avail < kMinAdu) {
+    if (!at_end) *pending = true;
+    return 0;
+  }
+  const std::span<const std::uint8_t> view(bytes_.data() + begin_ + pos, avail);
+  const bool response_first = expect_response_ && view[0] == expected_slave_;
+  const Role order[2] = {response_first ? Role::kResponse : Role::kRequest,
+                         response_first ? Role::kRequest : Role::kResponse};
+  bool tried_generic = false;
+  for (const Role role : order) {
+    const Shape shape = predict_shape(view, role);
+    switch (shape.status) {
+      case ShapeStatus::kLength:
+        if (shape.value > avail) {
+          if (!at_end) *pending = true;
+        } else if (shape.value >= kMinAdu && crc16(view.first(shape.value)) == 0) {
+          return shape.value;
+        }
+        break;
+      case ShapeStatus::kNeedMore:
+        if (!at_end) *pending = true;
+        break;
+      case ShapeStatus::kUnpredictable:
+        if (allow_generic && !tried_generic) {
+          tried_generic = true;
+          const std::size_t len = generic_crc_length(pos, at_end, pending);
+          if (len > 0) return len;
+        }
+        break;
+      case ShapeStatus::kImpossible: break;
+    }
+  }
+  return 0;
+}
+
+Framer::Verdict Framer::decide_head(bool at_end) {
+  const std::size_t n = buffered();
+  const bool forced = at_end || n >= kMaxPending;
+
+  bool head_pending = false;
+  const std::size_t head_len = confirmed_length(0, at_end, true, &head_pending);
+  if (head_len > 0) {
+    emit_frame(head_len);
+    return Verdict::kEmitted;
+  }
+
+  if (head_pending && !forced) {
+    // The head may still become a frame. Give up on it early only where a silence the
+    // timestamps show is followed by a frame the CRC confirms.
+    for (std::size_t p = 1; p < n; ++p) {
+      if (!boundary_at(p)) continue;
+      bool pending = false;
+      if (confirmed_length(p, at_end, true, &pending) > 0) {
+        classify_span(p);
+        return Verdict::kEmitted;
+      }
+    }
+    return Verdict::kWait;
+  }
+
+  // Nothing at the head can be a valid frame: find where the next one starts.
+  std::size_t first_pending = 0;
+  for (std::size_t p = std::max<std::size_t>(1, scan_resume_); p < n; ++p) {
+    bool pending = false;
+    if (confirmed_length(p, at_end, true, &pending) > 0) {
+      scan_resume_ = 1;
+      classify_span(p);
+      return Verdict::kEmitted;
+    }
+    if (pending && first_pending == 0) first_pending = p;
+  }
+  scan_resume_ = first_pending == 0 ? n : first_pending;
+
+  // No confirmed frame ahead. A silence the timestamps show still delimits a frame.
+  for (std::size_t p = 1; p < n; ++p) {
+    if (boundary_at(p)) {
+      scan_resume_ = 1;
+      classify_span(p);
+      return Verdict::kEmitted;
+    }
+  }
+  if (!forced) return Verdict::kWait;
+  scan_resume_ = 1;
+  if (at_end) {
+    classify_span(n);
+  } else {
+    // Window full of bytes that form nothing: release those that cannot start a frame.
+    emit_noise(std::max<std::size_t>(1, first_pending == 0 ? n - kMaxAdu : first_pending));
+  }
+  return Verdict::kEmitted;
+}
+
+// Bytes [0, length) precede a confirmed frame, a silence, or the end: a damaged frame
+// when they start like one the bus has seen (known slave and function), else noise.
+void Framer::classify_span(std::size_t length) {
+  if (length >= kMinAdu && plausible_start(0)) {
+    const std::size_t predicted = predicted_length(0);
+    if (predicted >= kMinAdu && predicted < length) {
+      emit_frame(predicted);  // a frame with a bad CRC, then more bytes
+      return;
+    }
+    if (length <= kMaxAdu) {
+      emit_frame(length);  // bad CRC, truncated, or an unknown length
+      return;
+    }
+  }
+  emit_noise(length);
+}
+
+void Framer::fill_record(Record& rec, std::size_t from, std::size_t length) const {
+  const ByteInfo& first = info_at(from);
+  rec.t_start = first.t_end - char_time_;
+  rec.t_end = info_at(from + length - 1).t_end;
+  rec.gap_before = first.gap_before;
+  rec.origin = first.origin;
+  rec.size = static_cast<std::uint16_t>(length);
+  std::memcpy(rec.storage.data(), bytes_.data() + begin_ + from, length);
+  rec.line_errors = 0;
+  for (std::size_t i = 0; i < length; ++i) rec.line_errors |= info_at(from + i).errors;
+}
+
+void Framer::emit_frame(std::size_t length) {
+  flush_noise();
+  Record& rec = scratch_;
+  rec = Record{};
+  rec.kind = RecordKind::kFrame;
+  fill_record(rec, 0, length);
+  classify_frame(rec);
+
+  // Timing, only where the timestamps can show it.
+  const Nanos res = config_.resolution;
+  for (std::size_t i = 1; i < length; ++i) {
+    const Nanos gap = info_at(i).gap_before;
+    if (gap != kUnknownTime && gap - res > t1_5_) {
+      rec.issues.add(IssueId::kT15);
+      break;
+    }
+  }
+  if (last_record_was_frame_ && rec.gap_before != kUnknownTime && rec.gap_before + res < t3_5_) {
+    rec.issues.add(IssueId::kT35);
+  }
+  if ((rec.line_errors & (kParityError | kFramingError)) != 0) rec.issues.add(IssueId::kLineError);
+  if ((rec.line_errors & kBreak) != 0) rec.issues.add(IssueId::kBreak);
+  if ((rec.line_errors & kOverrun) != 0) rec.issues.add(IssueId::kOverrun);
+
+  rec.seq = next_seq_++;
+  if (rec.crc_ok) active_slaves_.set(rec.slave());
+
+  // Track what comes next: after a request, its response (echo functions alternate).
+  const std::uint8_t slave = rec.slave();
+  const std::uint8_t function = rec.function();
+  if (rec.crc_ok) {
+    const bool fits_request = (rec.shape_fit & kFitsRequest) != 0;
+    const bool fits_response = (rec.shape_fit & kFitsResponse) != 0;
+    const bool awaited = expect_response_ && slave == expected_slave_ &&
+                         (function & 0x7FU) == (expected_function_ & 0x7FU);
+    if (rec.is_exception() || (awaited && (fits_response || !fits_request))) {
+      expect_request();  // that was the awaited response
+    } else if ((fits_request || !fits_response) && slave != 0) {
+      expect_response_from(slave, function);  // a request (echo functions: the first)
+    } else {
+      expect_request();
+    }
+  }
+
+  last_record_end_ = rec.t_end;
+  last_record_was_frame_ = true;
+  consume(length);
+  out_.on_record(rec);
+}
+
+void Framer::emit_noise(std::size_t length) {
+  std::size_t done = 0;
+  while (done < length) {
+    if (noise_.size == kMaxAdu) flush_noise();
+    const std::size_t take = std::min(length - done, kMaxAdu - noise_.size);
+    if (noise_.size == 0) {
+      fill_record(noise_, done, take);
+    } else {
+      std::memcpy(noise_.storage.data() + noise_.size, bytes_.data() + begin_ + done, take);
+      noise_.size = static_cast<std::uint16_t>(noise_.size + take);
+      noise_.t_end = info_at(done + take - 1).t_end;
+      for (std::size_t i = 0; i < take; ++i) noise_.line_errors |= info_at(done + i).errors;
+    }
+    done += take;
+  }
+  consume(length);
+}
+
+void Framer::flush_noise() {
+  if (noise_.size == 0) return;
+  noise_.kind = RecordKind::kNoise;
+  noise_.seq = next_seq_++;
+  noise_.crc_ok = false;
+  noise_.issues = IssueSet{};
+  noise_.issues.add(IssueId::kNoiseBytes);
+  if ((noise_.line_errors & (kParityError | kFramingError)) != 0) {
+    noise_.issues.add(IssueId::kLineError);
+  }
+  if ((noise_.line_errors & kBreak) != 0) noise_.issues.add(IssueId::kBreak);
+  if ((noise_.line_errors & kOverrun) != 0) noise_.issues.add(IssueId::kOverrun);
+  last_record_end_ = noise_.t_end;
+  last_record_was_frame_ = false;
+  out_.on_record(noise_);
+  noise_ = Record{};
+  noise_.kind = RecordKind::kNoise;
+}
+
+void Framer::consume(std::size_t length) {
+  begin_ += length;
+  if (begin_ == end_) begin_ = end_ = 0;
+  scan_resume_ = scan_resume_ > length ? scan_resume_ - length : 1;
+}
+
+}  // namespace rtu

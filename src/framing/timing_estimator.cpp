@@ -1,0 +1,48 @@
+#include "framing/timing_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtu {
+
+std::size_t TimingEstimator::bucket_of(Nanos interval) {
+  const double micros = static_cast<double>(std::max<Nanos>(interval, 0)) / 1e3;
+  const auto b = static_cast<std::size_t>(4.0 * std::log2(micros + 1.0));
+  return std::min(b, kBuckets - 1);
+}
+
+Nanos TimingEstimator::bucket_upper(std::size_t bucket) {
+  const double micros = std::exp2(static_cast<double>(bucket + 1) / 4.0) - 1.0;
+  return static_cast<Nanos>(micros * 1e3);
+}
+
+void TimingEstimator::add(const Chunk& chunk) {
+  ++chunks_;
+  if (chunk.bytes.size() > 1) {
+    ++multi_byte_chunks_;
+    if (last_t_ != kUnknownTime) ++multi_intervals_[bucket_of(chunk.t_end - last_t_)];
+  }
+  last_t_ = chunk.t_end;
+}
+
+bool TimingEstimator::mostly_single_bytes() const {
+  // Up to 2% of batched reads still leave byte timing observable almost everywhere.
+  return multi_byte_chunks_ * 50 <= chunks_;
+}
+
+Nanos TimingEstimator::resolution(Nanos precision) const {
+  const Nanos floor = std::max<Nanos>(precision, kNanosPerMicro);
+  if (mostly_single_bytes()) return floor;
+  // Median interval between batched deliveries.
+  std::uint64_t total = 0;
+  for (const auto n : multi_intervals_) total += n;
+  if (total == 0) return floor;
+  std::uint64_t seen = 0;
+  for (std::size_t b = 0; b < kBuckets; ++b) {
+    seen += multi_intervals_[b];
+    if (seen * 2 >= total) return std::max(floor, bucket_upper(b));
+  }
+  return floor;
+}
+
+}  // namespace rtu

@@ -1,0 +1,139 @@
+#include "pairing/transaction_tracker.hpp"
+
+#include "modbus/function_codes.hpp"
+
+namespace rtu {
+namespace {
+
+// Requests that get no response by design (MODBUS over Serial Line §2.1; FC08 sub 04,
+// Force Listen Only Mode, V1.1b3 §6.8.1).
+bool expects_no_response(const Record& request) {
+  if (request.slave() == 0) return true;
+  const auto b = request.bytes();
+  return request.function() == fc::kDiagnostics && b.size() >= 4 && b[2] == 0 && b[3] == 4;
+}
+
+}  // namespace
+
+TransactionTracker::TransactionTracker(const TrackerConfig& config, RecordSink& out)
+    : config_(config), out_(out) {}
+
+Role TransactionTracker::decide_role(const Record& frame) const {
+  if (frame.is_exception()) return Role::kResponse;
+  const bool fits_request = (frame.shape_fit & kFitsRequest) != 0;
+  const bool fits_response = (frame.shape_fit & kFitsResponse) != 0;
+  const bool awaited =
+      awaiting_answer() && frame.slave() == open_.slave() && frame.function() == open_.function();
+  if (fits_request && !fits_response) return Role::kRequest;
+  if (fits_response && !fits_request) return Role::kResponse;
+  if (fits_request && fits_response) return awaited ? Role::kResponse : Role::kRequest;
+  // Fits no length rule: a broken frame, or a function with no rule (vendor codes).
+  if (awaited) return Role::kResponse;
+  if (!is_public_function(frame.function()) && frame.crc_ok) return Role::kRequest;
+  return Role::kUnknown;
+}
+
+void TransactionTracker::on_record(Record& record) {
+  last_time_ = record.t_end;
+  if (record.kind == RecordKind::kNoise) {
+    emit(record);
+    return;
+  }
+  record.role = decide_role(record);
+  switch (record.role) {
+    case Role::kRequest: handle_request(record); break;
+    case Role::kResponse: handle_response(record); break;
+    case Role::kUnknown: emit(record); break;
+  }
+}
+
+void TransactionTracker::handle_request(Record& frame) {
+  if (has_open_) close_open(!answered_);
+  if (expects_no_response(frame)) {
+    frame.txn = next_txn_++;
+    emit(frame);
+    return;
+  }
+  open_ = frame;
+  has_open_ = true;
+  answered_ = false;
+  held_[0] = frame;
+  held_count_ = 1;
+}
+
+void TransactionTracker::handle_response(Record& frame) {
+  if (!awaiting_answer()) {
+    frame.issues.add(IssueId::kUnsolicited);
+    emit(frame);
+    return;
+  }
+  // The open request's answer, possibly from the wrong slave or for the wrong function.
+  if (frame.slave() != open_.slave()) frame.issues.add(IssueId::kWrongSlave);
+  if ((frame.function() & 0x7FU) != open_.function()) frame.issues.add(IssueId::kWrongFunction);
+  frame.latency = frame.t_start - open_.t_end;
+  if (frame.latency > config_.response_timeout) {
+    frame.issues.add(IssueId::kLate);
+    open_.issues.add(IssueId::kTimeout);
+  }
+  open_.txn = next_txn_++;
+  frame.txn = open_.txn;
+  answered_ = true;
+  if (held_count_ > 0) {
+    held_[0].txn = open_.txn;
+    held_[0].issues = open_.issues;
+    release_held();
+  }
+  frame.request = &open_;
+  out_.on_record(frame);
+  frame.request = nullptr;
+}
+
+void TransactionTracker::close_open(bool timed_out) {
+  if (timed_out) {
+    open_.issues.add(IssueId::kTimeout);
+    if (held_count_ > 0) held_[0].issues.add(IssueId::kTimeout);
+  }
+  release_held();
+  has_open_ = false;
+  answered_ = false;
+}
+
+void TransactionTracker::emit(Record& record) {
+  if (held_count_ == 0) {
+    out_.on_record(record);
+    return;
+  }
+  if (held_count_ == kMaxHeld) {
+    // Too much traffic while a request waits: release it without a verdict.
+    release_held();
+    out_.on_record(record);
+    return;
+  }
+  held_[held_count_++] = record;
+}
+
+void TransactionTracker::release_held() {
+  for (std::size_t i = 0; i < held_count_; ++i) out_.on_record(held_[i]);
+  held_count_ = 0;
+}
+
+void TransactionTracker::idle(Nanos now) {
+  if (awaiting_answer() && held_count_ > 0 && now - open_.t_end > config_.response_timeout) {
+    open_.issues.add(IssueId::kTimeout);
+    held_[0].issues.add(IssueId::kTimeout);
+    release_held();
+  }
+}
+
+void TransactionTracker::on_finish() {
+  if (awaiting_answer() && last_time_ != kUnknownTime &&
+      last_time_ - open_.t_end > config_.response_timeout) {
+    close_open(true);
+  } else {
+    // The capture ended before the timeout ran out: no verdict.
+    release_held();
+  }
+  out_.on_finish();
+}
+
+}  // namespace rtu

@@ -1,0 +1,59 @@
+#pragma once
+// Pairs requests with responses on a single-master bus and decides each frame's role.
+//
+// Modbus RTU has one master and at most one open request: a response carries the same
+// slave address and function (or its exception). Echo functions (05, 06, 08, 22) have
+// requests and responses of the same shape, so their role comes from order. A new
+// request before the response closes the old one as a timeout; a response with no open
+// request is unsolicited; a response from another slave or function is paired and
+// flagged. Broadcasts (slave 0) expect no response.
+//
+// Records leave in time order. A request is held back until its fate is known (answer,
+// timeout), together with the records that arrived meanwhile; that backlog is bounded,
+// and overflowing it releases the request without a verdict rather than growing.
+#include <array>
+#include <cstdint>
+
+#include "framing/record.hpp"
+
+namespace rtu {
+
+struct TrackerConfig {
+  Nanos response_timeout = 1000 * kNanosPerMilli;
+};
+
+class TransactionTracker : public RecordSink {
+ public:
+  TransactionTracker(const TrackerConfig& config, RecordSink& out);
+
+  void on_capture(const CaptureInfo& info) override { out_.on_capture(info); }
+  void on_record(Record& record) override;
+  void on_finish() override;
+  // Live capture: the line has been quiet until `now`; a request older than the
+  // response timeout is released as timed out.
+  void idle(Nanos now);
+
+ private:
+  static constexpr std::size_t kMaxHeld = 64;
+
+  Role decide_role(const Record& frame) const;
+  void handle_request(Record& frame);
+  void handle_response(Record& frame);
+  void close_open(bool timed_out);
+  void emit(Record& record);
+  void release_held();
+  [[nodiscard]] bool awaiting_answer() const { return has_open_ && !answered_; }
+
+  TrackerConfig config_;
+  RecordSink& out_;
+
+  Record open_;  // the newest request that expects an answer
+  bool has_open_ = false;
+  bool answered_ = false;
+  std::array<Record, kMaxHeld> held_{};  // held_[0] is the open request while held
+  std::size_t held_count_ = 0;
+  std::int64_t next_txn_ = 0;
+  Nanos last_time_ = kUnknownTime;
+};
+
+}  // namespace rtu

@@ -1,0 +1,83 @@
+#include "pipeline/decode_pipeline.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "framing/frame_classifier.hpp"
+#include "framing/framer.hpp"
+#include "pairing/transaction_tracker.hpp"
+
+namespace rtu {
+
+struct DecodePipeline::Impl {
+  Impl(const PipelineOptions& opts, RecordSink& out)
+      : sink(out),
+        tracker(TrackerConfig{opts.response_timeout}, out),
+        framer(FramerConfig{opts.line, std::max<Nanos>(opts.timing_resolution, 0),
+                            opts.per_byte_timing},
+               tracker),
+        options(opts) {}
+
+  RecordSink& sink;
+  TransactionTracker tracker;
+  Framer framer;
+  PipelineOptions options;
+  bool started = false;
+  Record imported;
+  Nanos last_import_end = kUnknownTime;
+  std::uint64_t import_seq = 0;
+};
+
+DecodePipeline::DecodePipeline(const PipelineOptions& options, RecordSink& sink)
+    : impl_(std::make_unique<Impl>(options, sink)) {}
+
+DecodePipeline::~DecodePipeline() = default;
+
+void DecodePipeline::start(const CaptureInfo& info) {
+  if (impl_->started) return;
+  impl_->started = true;
+  impl_->tracker.on_capture(info);
+}
+
+void DecodePipeline::push(const Chunk& chunk) {
+  if (!impl_->started) {
+    CaptureInfo info;
+    info.line = impl_->options.line;
+    info.timing_resolution = impl_->options.timing_resolution;
+    info.per_byte_timing = impl_->options.per_byte_timing;
+    info.response_timeout = impl_->options.response_timeout;
+    start(info);
+  }
+  impl_->framer.push(chunk);
+}
+
+void DecodePipeline::push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
+                                std::uint64_t origin) {
+  if (!impl_->started) start(CaptureInfo{});
+  Record& rec = impl_->imported;
+  rec = Record{};
+  rec.kind = RecordKind::kFrame;
+  rec.size = static_cast<std::uint16_t>(std::min(adu.size(), kMaxAdu));
+  std::memcpy(rec.storage.data(), adu.data(), rec.size);
+  rec.t_start = t_start;
+  rec.t_end = t_end;
+  rec.origin = origin;
+  rec.seq = impl_->import_seq++;
+  if (impl_->last_import_end != kUnknownTime) {
+    rec.gap_before = std::max<Nanos>(0, t_start - impl_->last_import_end);
+    if (rec.gap_before + impl_->options.timing_resolution < impl_->options.line.t3_5()) {
+      rec.issues.add(IssueId::kT35);
+    }
+  }
+  impl_->last_import_end = t_end;
+  classify_frame(rec);
+  if (adu.size() > kMaxAdu) rec.issues.add(IssueId::kTooLong);
+  impl_->tracker.on_record(rec);
+}
+
+void DecodePipeline::finish() {
+  impl_->framer.finish();
+  impl_->tracker.on_finish();
+}
+
+}  // namespace rtu

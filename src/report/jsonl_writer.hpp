@@ -1,0 +1,34 @@
+#pragma once
+// JSON Lines output: one object per record, in time order, preceded by a "capture" header.
+// The keys are a public interface (scripts depend on them): add, never rename.
+//
+//   header: kind="capture", source, baud, parity, stop_bits, char_time_us, t1_5_us, t3_5_us,
+//           timing_resolution_ms, per_byte_timing, response_timeout_ms, note
+//   frame:  kind="frame", t, t_end (seconds, input clock), gap_ms (null when not observable),
+//           hex, slave, fc, function, crc_ok, role, txn (null when unmatched), latency_ms
+//           (responses), exception {code, name}, issues [keys], decoded fields, device keys
+//   noise:  kind="noise", t, t_end, gap_ms, hex, issues
+#include <fmt/format.h>
+
+#include "framing/record.hpp"
+#include "report/frame_annotator.hpp"
+#include "report/output_stream.hpp"
+
+namespace rtu {
+
+class JsonlWriter : public RecordSink {
+ public:
+  JsonlWriter(OutputStream& out, FrameAnnotator* annotator = nullptr, bool flush_each = false);
+
+  void on_capture(const CaptureInfo& info) override;
+  void on_record(Record& record) override;
+  void on_finish() override;
+
+ private:
+  OutputStream& out_;
+  FrameAnnotator* annotator_;
+  bool flush_each_;
+  fmt::memory_buffer buffer_;
+};
+
+}  // namespace rtu

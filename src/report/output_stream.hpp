@@ -1,0 +1,28 @@
+#pragma once
+// Where writers put their bytes: stdout or a file, written a whole record at a time so a
+// reader following the output never sees half a line.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <string>
+
+namespace rtu {
+
+class OutputStream {
+ public:
+  // "-" or empty = standard output. Throws InputError when the file cannot be created.
+  explicit OutputStream(const std::string& path);
+  ~OutputStream();
+  OutputStream(const OutputStream&) = delete;
+  OutputStream& operator=(const OutputStream&) = delete;
+
+  void write(const fmt::memory_buffer& buffer);
+  void flush();
+
+ private:
+  std::FILE* file_ = nullptr;
+  bool owned_ = false;
+  std::string path_;
+};
+
+}  // namespace rtu

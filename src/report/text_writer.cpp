@@ -1,0 +1,107 @@
+#include "report/text_writer.hpp"
+
+#include <iterator>
+
+#include "core/time_format.hpp"
+#include "modbus/function_codes.hpp"
+#include "report/frame_text.hpp"
+#include "report/timing_note.hpp"
+
+namespace rtu {
+namespace {
+
+constexpr std::size_t kHexPreview = 24;  // bytes shown for noise and undecodable frames
+
+void append_hex_preview(fmt::memory_buffer& out, std::span<const std::uint8_t> bytes) {
+  const std::size_t shown = bytes.size() < kHexPreview ? bytes.size() : kHexPreview;
+  for (std::size_t i = 0; i < shown; ++i) {
+    fmt::format_to(std::back_inserter(out), "{}{:02x}", i == 0 ? "" : " ", bytes[i]);
+  }
+  if (shown < bytes.size()) fmt::format_to(std::back_inserter(out), " …");
+}
+
+void pad_to(fmt::memory_buffer& out, std::size_t line_start, std::size_t column) {
+  while (out.size() - line_start < column) out.push_back(' ');
+}
+
+}  // namespace
+
+void append_frame_summary(fmt::memory_buffer& out, const Record& frame) {
+  append_hex_preview(out, frame.bytes());
+}
+
+TextWriter::TextWriter(OutputStream& out, FrameAnnotator* annotator, bool flush_each)
+    : out_(out), annotator_(annotator), flush_each_(flush_each) {}
+
+void TextWriter::on_capture(const CaptureInfo& info) {
+  buffer_.clear();
+  auto it = std::back_inserter(buffer_);
+  fmt::format_to(it, "# {}  line {}  char {:.3f} ms  t1.5 {:.3f} ms  t3.5 {:.3f} ms\n", info.source,
+                 info.line.describe(), to_millis(info.line.char_time()),
+                 to_millis(info.line.t1_5()), to_millis(info.line.t3_5()));
+  fmt::format_to(it, "# timing: {}\n", timing_note(info));
+  fmt::format_to(it, "# {:>18} {:>11}  {:<4} {:>5}  {:<16} {}\n", "time [s]", "gap", "role",
+                 "slave", "function", "summary   latency   [issues]");
+  out_.write(buffer_);
+}
+
+void TextWriter::on_record(Record& record) {
+  const bool is_frame = record.kind == RecordKind::kFrame;
+  if (is_frame && annotator_ != nullptr) annotator_->annotate(record);
+  buffer_.clear();
+  auto it = std::back_inserter(buffer_);
+  const std::size_t start = buffer_.size();
+  buffer_.push_back(' ');
+  buffer_.push_back(' ');
+  pad_to(buffer_, start, 2);
+  {
+    fmt::memory_buffer t;
+    append_seconds(t, record.t_start, 6);
+    fmt::format_to(it, "{:>18}", std::string_view(t.data(), t.size()));
+  }
+  if (record.gap_before == kUnknownTime) {
+    fmt::format_to(it, " {:>11}", "?");
+  } else {
+    fmt::format_to(it, " {:>+9.3f}ms", to_millis(record.gap_before));
+  }
+  if (!is_frame) {
+    fmt::format_to(it, "  {:<4} {:>5}  {:<16} {} bytes: ", "noise", "", "", record.size);
+    append_hex_preview(buffer_, record.bytes());
+  } else {
+    fmt::format_to(it, "  {:<4} {:>5}  {:<16} ", role_short_name(record.role), record.slave(),
+                   function_short_name(record.function()));
+    if (record.is_exception() && record.size >= 3) {
+      const std::uint8_t code = record.storage[2];
+      std::string_view name =
+          annotator_ != nullptr ? annotator_->exception_name(record, code) : std::string_view{};
+      if (name.empty()) name = exception_name(code);
+      fmt::format_to(it, "exception {:02X} {}", code, name);
+    } else {
+      append_frame_summary(buffer_, record);
+    }
+    if (annotator_ != nullptr) annotator_->append_text(buffer_, record);
+    if (record.role == Role::kResponse && record.latency != kUnknownTime) {
+      fmt::format_to(it, "  {:.3f} ms", to_millis(record.latency));
+    }
+    if (record.txn >= 0) fmt::format_to(it, "  #{}", record.txn);
+  }
+  if (!record.issues.empty()) {
+    buffer_.append(std::string_view("  ["));
+    bool first = true;
+    record.issues.for_each([&](IssueId id) {
+      if (!first) buffer_.push_back(' ');
+      first = false;
+      buffer_.append(issue_info(id).key);
+    });
+    buffer_.push_back(']');
+  }
+  buffer_.push_back('\n');
+  out_.write(buffer_);
+  if (flush_each_) out_.flush();
+}
+
+void TextWriter::on_finish() {
+  out_.flush();
+}
+
+}  // namespace rtu

@@ -1,0 +1,32 @@
+#pragma once
+// Human-readable output: one aligned line per record.
+//
+//        time [s]        gap  role slave function         summary ... latency  issues
+//   12.345678901   +50.123ms  req    1  read holding     0x0032 ×3
+#include <fmt/format.h>
+
+#include "framing/record.hpp"
+#include "report/frame_annotator.hpp"
+#include "report/output_stream.hpp"
+
+namespace rtu {
+
+class TextWriter : public RecordSink {
+ public:
+  TextWriter(OutputStream& out, FrameAnnotator* annotator = nullptr, bool flush_each = false);
+
+  void on_capture(const CaptureInfo& info) override;
+  void on_record(Record& record) override;
+  void on_finish() override;
+
+ private:
+  OutputStream& out_;
+  FrameAnnotator* annotator_;
+  bool flush_each_;
+  fmt::memory_buffer buffer_;
+};
+
+// The frame's readable summary (what it asks or answers), without device annotations.
+void append_frame_summary(fmt::memory_buffer& out, const Record& frame);
+
+}  // namespace rtu

@@ -1,0 +1,26 @@
+#include "report/timing_note.hpp"
+
+#include <fmt/format.h>
+
+namespace rtu {
+
+std::string timing_note(const CaptureInfo& info) {
+  const double res_ms = static_cast<double>(info.timing_resolution) / 1e6;
+  const Nanos t15 = info.line.t1_5();
+  const Nanos t35 = info.line.t3_5();
+  if (info.timing_resolution < t15) {
+    return fmt::format("gaps down to {:.3f} ms are observable: t1.5 and t3.5 are checked", res_ms);
+  }
+  if (info.timing_resolution < t35) {
+    return fmt::format(
+        "gaps below {:.3f} ms are not observable in this capture: t3.5 is checked only where "
+        "a gap exceeds it by that margin, t1.5 is not checked",
+        res_ms);
+  }
+  return fmt::format(
+      "gaps below {:.1f} ms are not observable in this capture (batched reads): frames are "
+      "found by length and CRC, t1.5/t3.5 are not checked",
+      res_ms);
+}
+
+}  // namespace rtu

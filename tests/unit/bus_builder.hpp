@@ -1,0 +1,109 @@
+#pragma once
+// Test helper: lays frames out on a simulated line with exact byte times, then cuts the
+// byte stream into chunks the way a per-byte source or a batching USB adapter would.
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+#include "core/chunk.hpp"
+#include "core/crc16.hpp"
+#include "framing/record.hpp"
+#include "serial/line_settings.hpp"
+
+namespace rtu::test {
+
+inline std::vector<std::uint8_t> with_crc(std::initializer_list<std::uint8_t> body) {
+  std::vector<std::uint8_t> adu(body);
+  const std::uint16_t crc = crc16(adu);
+  adu.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  adu.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  return adu;
+}
+
+class BusBuilder {
+ public:
+  explicit BusBuilder(LineSettings line = {}) : line_(line) {}
+
+  // Appends bytes after `silence` of idle line; bytes follow back to back.
+  BusBuilder& add(const std::vector<std::uint8_t>& bytes, Nanos silence) {
+    Nanos t = end_ + silence;
+    for (const auto b : bytes) {
+      bytes_.push_back(b);
+      t += line_.char_time();
+      ends_.push_back(t);
+    }
+    end_ = t;
+    return *this;
+  }
+
+  // One chunk per byte, stamped with the end of that byte (an exact per-byte source).
+  [[nodiscard]] std::vector<Chunk> per_byte() const {
+    std::vector<Chunk> out;
+    for (std::size_t i = 0; i < bytes_.size(); ++i) {
+      Chunk c;
+      c.t_end = ends_[i];
+      c.bytes = std::span(bytes_).subspan(i, 1);
+      c.origin = i + 1;
+      out.push_back(c);
+    }
+    return out;
+  }
+
+  // A USB adapter: every `period` it delivers whatever arrived since its last delivery.
+  [[nodiscard]] std::vector<Chunk> batched(Nanos period) const {
+    std::vector<Chunk> out;
+    std::size_t i = 0;
+    Nanos deadline = kStart + period;
+    while (i < bytes_.size()) {
+      std::size_t j = i;
+      while (j < bytes_.size() && ends_[j] <= deadline) ++j;
+      if (j > i) {
+        Chunk c;
+        c.t_end = deadline;
+        c.bytes = std::span(bytes_).subspan(i, j - i);
+        c.origin = out.size() + 1;
+        out.push_back(c);
+        i = j;
+      }
+      deadline += period;
+    }
+    return out;
+  }
+
+  [[nodiscard]] const LineSettings& line() const { return line_; }
+  [[nodiscard]] std::size_t size() const { return bytes_.size(); }
+
+ private:
+  LineSettings line_;
+  std::vector<std::uint8_t> bytes_;
+  std::vector<Nanos> ends_;
+  static constexpr Nanos kStart = 1 * kNanosPerSecond;
+  Nanos end_ = kStart;
+};
+
+// Collects everything a pipeline emits.
+class CollectingSink : public RecordSink {
+ public:
+  void on_record(Record& record) override {
+    records.push_back(record);
+    if (record.request != nullptr) requests_of_responses.push_back(*record.request);
+  }
+  void on_finish() override { finished = true; }
+
+  [[nodiscard]] std::size_t frames() const {
+    std::size_t n = 0;
+    for (const auto& r : records) n += r.kind == RecordKind::kFrame ? 1 : 0;
+    return n;
+  }
+  [[nodiscard]] std::size_t total_bytes() const {
+    std::size_t n = 0;
+    for (const auto& r : records) n += r.size;
+    return n;
+  }
+
+  std::vector<Record> records;
+  std::vector<Record> requests_of_responses;
+  bool finished = false;
+};
+
+}  // namespace rtu::test

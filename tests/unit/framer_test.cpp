@@ -1,0 +1,211 @@
+#include "framing/framer.hpp"
+
+#include <gtest/gtest.h>
+
+#include "bus_builder.hpp"
+
+namespace rtu {
+namespace {
+
+using test::BusBuilder;
+using test::CollectingSink;
+using test::with_crc;
+
+constexpr Nanos kMs = kNanosPerMilli;
+
+const std::vector<std::uint8_t> kReadRequest = {0x01, 0x03, 0x00, 0x32, 0x00, 0x03, 0xA4, 0x04};
+const std::vector<std::uint8_t> kReadResponse = {0x01, 0x03, 0x06, 0xEA, 0x60, 0xC3,
+                                                 0x50, 0xDB, 0x6C, 0xD1, 0x3F};
+
+std::vector<Record> run(const std::vector<Chunk>& chunks, const LineSettings& line,
+                        Nanos resolution, bool per_byte_exact = false) {
+  CollectingSink sink;
+  Framer framer(FramerConfig{line, resolution, per_byte_exact}, sink);
+  for (const auto& c : chunks) framer.push(c);
+  framer.finish();
+  return sink.records;
+}
+
+std::vector<std::uint8_t> bytes_of(const Record& r) {
+  return {r.bytes().begin(), r.bytes().end()};
+}
+
+TEST(Framer, PerByteTimingSplitsRequestAndResponse) {
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add(kReadResponse, 10 * kMs);
+  const auto records = run(bus.per_byte(), bus.line(), kNanosPerMicro);
+  ASSERT_EQ(records.size(), 2U);
+  EXPECT_EQ(bytes_of(records[0]), kReadRequest);
+  EXPECT_EQ(bytes_of(records[1]), kReadResponse);
+  EXPECT_TRUE(records[0].crc_ok);
+  EXPECT_TRUE(records[1].crc_ok);
+  EXPECT_TRUE(records[1].issues.empty());
+  // The gap before the response is the 10 ms of silence, measured exactly.
+  EXPECT_EQ(records[1].gap_before, 10 * kMs);
+}
+
+TEST(Framer, FrameTimeIsItsFirstByteCountedBackFromTheChunk) {
+  BusBuilder bus;
+  bus.add(kReadRequest, 0);
+  const auto chunks = bus.batched(16 * kMs);
+  ASSERT_EQ(chunks.size(), 1U);
+  const auto records = run(chunks, bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 1U);
+  const Nanos ct = bus.line().char_time();
+  EXPECT_EQ(records[0].t_end, chunks[0].t_end);
+  EXPECT_EQ(records[0].t_start, chunks[0].t_end - 8 * ct);
+}
+
+TEST(Framer, UsbBatchingGluesFramesButLengthAndCrcSplitThem) {
+  BusBuilder bus;
+  // Slave answers 2 ms after the request: both land in one 16 ms USB transfer.
+  bus.add(kReadRequest, 0).add(kReadResponse, 2 * kMs).add(kReadRequest, 5 * kMs);
+  const auto chunks = bus.batched(16 * kMs);
+  ASSERT_GT(chunks[0].bytes.size(), kReadRequest.size()) << "request and response glued";
+  const auto records = run(chunks, bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(bytes_of(records[0]), kReadRequest);
+  EXPECT_EQ(bytes_of(records[1]), kReadResponse);
+  EXPECT_EQ(bytes_of(records[2]), kReadRequest);
+  for (const auto& r : records) EXPECT_FALSE(r.issues.has(IssueId::kT35)) << "not observable";
+}
+
+TEST(Framer, LongFrameSplitAcrossManyChunksIsReassembled) {
+  std::vector<std::uint8_t> body = {0x11, 0x03, 0xF0};
+  for (int i = 0; i < 0xF0; ++i) body.push_back(static_cast<std::uint8_t>(i));
+  const std::uint16_t crc = crc16(body);
+  body.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  body.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  LineSettings line;
+  line.baud = 115200;
+  BusBuilder bus(line);
+  bus.add(with_crc({0x11, 0x03, 0x00, 0x00, 0x00, 0x78}), 0).add(body, 3 * kMs);
+  const auto records = run(bus.batched(1 * kMs), line, 1 * kMs);
+  ASSERT_EQ(records.size(), 2U);
+  EXPECT_EQ(records[1].size, body.size());
+  EXPECT_TRUE(records[1].crc_ok);
+}
+
+TEST(Framer, NoiseBeforeAFrameBecomesANoiseRecordAndNoByteIsLost) {
+  BusBuilder bus;
+  bus.add({0x00, 0xFF, 0x00}, 0).add(kReadRequest, 0).add(kReadResponse, 10 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(records[0].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[0]), (std::vector<std::uint8_t>{0x00, 0xFF, 0x00}));
+  EXPECT_EQ(bytes_of(records[1]), kReadRequest);
+  EXPECT_EQ(bytes_of(records[2]), kReadResponse);
+}
+
+TEST(Framer, BadCrcFrameOfAKnownSlaveIsAFrameWithACrcIssue) {
+  auto damaged = kReadResponse;
+  damaged[4] ^= 0x01;
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add(kReadResponse, 10 * kMs);
+  bus.add(kReadRequest, 50 * kMs).add(damaged, 10 * kMs);
+  bus.add(kReadRequest, 50 * kMs).add(kReadResponse, 10 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 6U);
+  EXPECT_EQ(bytes_of(records[3]), damaged);
+  EXPECT_EQ(records[3].kind, RecordKind::kFrame);
+  EXPECT_FALSE(records[3].crc_ok);
+  EXPECT_TRUE(records[3].issues.has(IssueId::kCrc));
+  EXPECT_EQ(bytes_of(records[4]), kReadRequest);
+}
+
+TEST(Framer, TruncatedResponseIsFlaggedAndTheNextRequestStillFrames) {
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add(kReadResponse, 10 * kMs);
+  bus.add(kReadRequest, 50 * kMs)
+      .add(std::vector<std::uint8_t>(kReadResponse.begin(), kReadResponse.begin() + 6), 10 * kMs);
+  bus.add(kReadRequest, 50 * kMs);
+  const auto records = run(bus.per_byte(), bus.line(), kNanosPerMicro);
+  ASSERT_EQ(records.size(), 5U);
+  EXPECT_EQ(records[3].size, 6U);
+  EXPECT_TRUE(records[3].issues.has(IssueId::kTruncated));
+  EXPECT_EQ(bytes_of(records[4]), kReadRequest);
+}
+
+TEST(Framer, UnknownFunctionFramesBySilenceWhereObservable) {
+  const auto vendor = with_crc({0x05, 0x41, 0x10, 0x20, 0x30});
+  BusBuilder bus;
+  bus.add(vendor, 0).add(kReadRequest, 20 * kMs);
+  const auto records = run(bus.per_byte(), bus.line(), kNanosPerMicro);
+  ASSERT_EQ(records.size(), 2U);
+  EXPECT_EQ(bytes_of(records[0]), vendor);
+  EXPECT_TRUE(records[0].crc_ok);
+}
+
+TEST(Framer, UnknownFunctionFramesByCrcWhenTimingIsBlurred) {
+  const auto vendor = with_crc({0x05, 0x41, 0x10, 0x20, 0x30});
+  BusBuilder bus;
+  bus.add(vendor, 0).add(kReadRequest, 2 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 2U);
+  EXPECT_EQ(bytes_of(records[0]), vendor);
+  EXPECT_EQ(bytes_of(records[1]), kReadRequest);
+}
+
+TEST(Framer, PauseInsideAFrameIsAT15IssueWhereObservable) {
+  BusBuilder bus;
+  bus.add(std::vector<std::uint8_t>(kReadRequest.begin(), kReadRequest.begin() + 4), 0)
+      .add(std::vector<std::uint8_t>(kReadRequest.begin() + 4, kReadRequest.end()), 3 * kMs);
+  const auto records = run(bus.per_byte(), bus.line(), kNanosPerMicro);
+  ASSERT_EQ(records.size(), 1U);
+  EXPECT_TRUE(records[0].crc_ok);
+  EXPECT_TRUE(records[0].issues.has(IssueId::kT15));
+}
+
+TEST(Framer, ShortGapBetweenFramesIsAT35IssueWhereObservable) {
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add(kReadResponse, 1 * kMs);  // t3.5 at 9600 is 4.01 ms
+  const auto records = run(bus.per_byte(), bus.line(), kNanosPerMicro);
+  ASSERT_EQ(records.size(), 2U);
+  EXPECT_TRUE(records[1].issues.has(IssueId::kT35));
+  // The same traffic through a 16 ms USB adapter cannot show it.
+  const auto blurred = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(blurred.size(), 2U);
+  EXPECT_FALSE(blurred[1].issues.has(IssueId::kT35));
+}
+
+TEST(Framer, ExceptionResponseIsFiveBytes) {
+  const auto request = with_crc({0x01, 0x03, 0x00, 0x3C, 0x00, 0x01});
+  const std::vector<std::uint8_t> exception = {0x01, 0x83, 0x03, 0x01, 0x31};
+  BusBuilder bus;
+  bus.add(request, 0).add(exception, 2 * kMs).add(kReadRequest, 3 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(bytes_of(records[1]), exception);
+  EXPECT_TRUE(records[1].crc_ok);
+}
+
+TEST(Framer, EveryByteEndsUpInExactlyOneRecordWhateverTheInput) {
+  // Deterministic pseudo-random bytes with valid frames sprinkled in.
+  BusBuilder bus;
+  std::uint32_t state = 12345;
+  auto next = [&] {
+    state = state * 1103515245U + 12345U;
+    return static_cast<std::uint8_t>(state >> 16U);
+  };
+  for (int i = 0; i < 200; ++i) {
+    std::vector<std::uint8_t> junk(next() % 7U);
+    for (auto& b : junk) b = next();
+    bus.add(junk, 0).add(kReadRequest, 1 * kMs).add(kReadResponse, 1 * kMs);
+  }
+  for (const Nanos period : {Nanos{1}, 1 * kMs, 16 * kMs}) {
+    const auto chunks = period == 1 ? bus.per_byte() : bus.batched(period);
+    const auto records = run(chunks, bus.line(), period == 1 ? kNanosPerMicro : period);
+    std::size_t total = 0;
+    std::size_t good = 0;
+    for (const auto& r : records) {
+      total += r.size;
+      good += r.crc_ok ? 1 : 0;
+      EXPECT_LE(r.size, kMaxAdu);
+    }
+    EXPECT_EQ(total, bus.size()) << "period " << period;
+    EXPECT_GE(good, 400U) << "period " << period;
+  }
+}
+
+}  // namespace
+}  // namespace rtu

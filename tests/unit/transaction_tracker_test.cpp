@@ -1,0 +1,136 @@
+#include "pairing/transaction_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include "bus_builder.hpp"
+#include "pipeline/decode_pipeline.hpp"
+
+namespace rtu {
+namespace {
+
+using test::BusBuilder;
+using test::CollectingSink;
+using test::with_crc;
+
+constexpr Nanos kMs = kNanosPerMilli;
+
+const auto kRead = with_crc({0x01, 0x03, 0x00, 0x32, 0x00, 0x03});
+const auto kReadAnswer = with_crc({0x01, 0x03, 0x06, 0xEA, 0x60, 0xC3, 0x50, 0xDB, 0x6C});
+const auto kReadSlave2 = with_crc({0x02, 0x03, 0x00, 0x00, 0x00, 0x01});
+const auto kAnswerSlave2 = with_crc({0x02, 0x03, 0x02, 0x12, 0x34});
+
+CollectingSink decode(const BusBuilder& bus, Nanos timeout = 1000 * kMs) {
+  CollectingSink sink;
+  PipelineOptions options;
+  options.line = bus.line();
+  options.response_timeout = timeout;
+  options.timing_resolution = 16 * kMs;
+  DecodePipeline pipeline(options, sink);
+  for (const auto& c : bus.batched(16 * kMs)) pipeline.push(c);
+  pipeline.finish();
+  return sink;
+}
+
+TEST(TransactionTracker, PairsRequestWithResponseAndMeasuresLatency) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kReadAnswer, 30 * kMs);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 2U);
+  const auto& req = sink.records[0];
+  const auto& resp = sink.records[1];
+  EXPECT_EQ(req.role, Role::kRequest);
+  EXPECT_EQ(resp.role, Role::kResponse);
+  EXPECT_EQ(req.txn, resp.txn);
+  EXPECT_GE(req.txn, 0);
+  // 30 ms of silence; the 16 ms batching can shift each end by less than one period.
+  EXPECT_NEAR(static_cast<double>(resp.latency), 30.0 * kMs, 16.0 * kMs);
+  ASSERT_EQ(sink.requests_of_responses.size(), 1U);
+  EXPECT_EQ(sink.requests_of_responses[0].txn, req.txn);
+}
+
+TEST(TransactionTracker, EchoFunctionsTakeTheirRoleFromOrder) {
+  const auto write = with_crc({0x01, 0x06, 0x00, 0x02, 0x00, 0x02});
+  BusBuilder bus;
+  bus.add(write, 0).add(write, 20 * kMs).add(write, 100 * kMs).add(write, 20 * kMs);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 4U);
+  EXPECT_EQ(sink.records[0].role, Role::kRequest);
+  EXPECT_EQ(sink.records[1].role, Role::kResponse);
+  EXPECT_EQ(sink.records[2].role, Role::kRequest);
+  EXPECT_EQ(sink.records[3].role, Role::kResponse);
+  EXPECT_EQ(sink.records[2].txn, sink.records[3].txn);
+  EXPECT_NE(sink.records[0].txn, sink.records[2].txn);
+}
+
+TEST(TransactionTracker, NewRequestBeforeTheResponseIsATimeout) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kReadSlave2, 200 * kMs).add(kAnswerSlave2, 20 * kMs);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 3U);
+  EXPECT_TRUE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_EQ(sink.records[0].txn, -1) << "unanswered requests have no transaction";
+  EXPECT_EQ(sink.records[1].txn, sink.records[2].txn);
+}
+
+TEST(TransactionTracker, ResponseWithNoOpenRequestIsUnsolicited) {
+  BusBuilder bus;
+  bus.add(kReadAnswer, 0);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 1U);
+  EXPECT_EQ(sink.records[0].role, Role::kResponse);
+  EXPECT_TRUE(sink.records[0].issues.has(IssueId::kUnsolicited));
+}
+
+TEST(TransactionTracker, ResponseFromAnotherSlaveIsPairedAndFlagged) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kAnswerSlave2, 20 * kMs);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_TRUE(sink.records[1].issues.has(IssueId::kWrongSlave));
+  EXPECT_EQ(sink.records[0].txn, sink.records[1].txn);
+}
+
+TEST(TransactionTracker, LateResponseIsPairedAndBothAreFlagged) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kReadAnswer, 300 * kMs);
+  const auto sink = decode(bus, 100 * kMs);
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_TRUE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_TRUE(sink.records[1].issues.has(IssueId::kLate));
+  EXPECT_EQ(sink.records[0].txn, sink.records[1].txn);
+}
+
+TEST(TransactionTracker, BroadcastExpectsNoResponse) {
+  const auto broadcast = with_crc({0x00, 0x06, 0x00, 0x02, 0x00, 0x01});
+  BusBuilder bus;
+  bus.add(broadcast, 0).add(kRead, 100 * kMs).add(kReadAnswer, 20 * kMs);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 3U);
+  EXPECT_EQ(sink.records[0].role, Role::kRequest);
+  EXPECT_FALSE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_EQ(sink.records[1].txn, sink.records[2].txn);
+}
+
+TEST(TransactionTracker, RecordsLeaveInTimeOrderWhileARequestIsHeld) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add({0xFF, 0x00}, 5 * kMs).add(kReadAnswer, 20 * kMs);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 3U);
+  EXPECT_EQ(sink.records[1].kind, RecordKind::kNoise);
+  for (std::size_t i = 1; i < sink.records.size(); ++i) {
+    EXPECT_LE(sink.records[i - 1].t_end, sink.records[i].t_start);
+  }
+  EXPECT_EQ(sink.records[0].txn, sink.records[2].txn);
+}
+
+TEST(TransactionTracker, UnansweredRequestAtCaptureEndGetsNoVerdictBeforeTheTimeout) {
+  BusBuilder bus;
+  bus.add(kRead, 0);
+  const auto sink = decode(bus);
+  ASSERT_EQ(sink.records.size(), 1U);
+  EXPECT_FALSE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_TRUE(sink.finished);
+}
+
+}  // namespace
+}  // namespace rtu

@@ -1,0 +1,51 @@
+// The hand-made sample capture captures/device_examples.hex (written by
+// tools/make_examples_capture.py) must stay what its header promises: every documented
+// example frame of the four devices, CRC-correct except the one bad-CRC request kept on
+// purpose, on a 9600 8E1 bus, one byte per line.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "capture/open_capture.hpp"
+#include "capture/text_hex_reader.hpp"
+#include "core/crc16.hpp"
+
+namespace rtu {
+namespace {
+
+TEST(DeviceExamplesCapture, HoldsEveryExampleFrameWithOneDeliberateBadCrc) {
+  const std::string path = std::string(RTUSCOPE_SOURCE_DIR) + "/captures/device_examples.hex";
+  auto source = open_capture(path);
+  ASSERT_NE(dynamic_cast<TextHexReader*>(source.get()), nullptr);
+  const auto settings = source->declared_settings();
+  ASSERT_TRUE(settings.has_value());
+  EXPECT_EQ(settings->describe(), "9600 8E1");
+
+  // Split on silences: bytes of a frame are one character time apart, frames ≥ 5 ms apart.
+  std::vector<std::vector<std::uint8_t>> frames;
+  Chunk chunk;
+  Nanos last = kUnknownTime;
+  while (source->next(chunk)) {
+    ASSERT_EQ(chunk.bytes.size(), 1U) << "one byte per line, line " << chunk.origin;
+    if (last == kUnknownTime || chunk.t_end - last > settings->t3_5()) frames.emplace_back();
+    if (last != kUnknownTime) {
+      EXPECT_GE(chunk.t_end - last, settings->char_time());
+    }
+    frames.back().push_back(chunk.bytes[0]);
+    last = chunk.t_end;
+  }
+  // 29 documented requests, 28 responses (one TH900 example has none).
+  EXPECT_EQ(frames.size(), 57U);
+  std::vector<std::vector<std::uint8_t>> bad;
+  for (const auto& f : frames) {
+    if (!crc16_valid(f)) bad.push_back(f);
+  }
+  const std::vector<std::uint8_t> yakotec_bad_crc = {0x01, 0x03, 0x00, 0x20,
+                                                     0x00, 0x01, 0x85, 0xC1};
+  ASSERT_EQ(bad.size(), 1U);
+  EXPECT_EQ(bad[0], yakotec_bad_crc);
+  EXPECT_EQ(source->timestamp_precision(), 1);
+}
+
+}  // namespace
+}  // namespace rtu

@@ -1,0 +1,48 @@
+// rtuscope decode FILE [--format text|jsonl]: frames, pairs and decodes a capture.
+#include <memory>
+#include <string>
+
+#include "app/command.hpp"
+#include "app/line_options.hpp"
+#include "pipeline/replay.hpp"
+#include "report/jsonl_writer.hpp"
+#include "report/output_stream.hpp"
+#include "report/text_writer.hpp"
+
+namespace rtu::app {
+namespace {
+
+struct DecodeArgs {
+  std::string file;
+  std::string format = "text";
+  std::string output = "-";
+  LineOptions line;
+};
+
+void setup_decode(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<DecodeArgs>();
+  auto* cmd = app.add_subcommand("decode", "Decode a capture file into frames and transactions");
+  cmd->add_option("file", args->file, "Capture: text hex (.hex/.txt), Saleae CSV, pcap/pcapng")
+      ->required();
+  cmd->add_option("--format", args->format, "Output format")
+      ->check(CLI::IsMember({"text", "jsonl"}));
+  cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
+  args->line.add_to(*cmd);
+  cmd->callback([args, &exit_code] {
+    const ReplayOptions options = args->line.to_replay_options();
+    OutputStream out(args->output);
+    std::unique_ptr<RecordSink> writer;
+    if (args->format == "jsonl") {
+      writer = std::make_unique<JsonlWriter>(out);
+    } else {
+      writer = std::make_unique<TextWriter>(out);
+    }
+    replay_capture(args->file, options, *writer);
+    exit_code = 0;
+  });
+}
+
+RTUSCOPE_REGISTER_COMMAND(setup_decode);
+
+}  // namespace
+}  // namespace rtu::app

@@ -1,0 +1,48 @@
+#include "pipeline/replay.hpp"
+
+#include "capture/open_capture.hpp"
+#include "framing/timing_estimator.hpp"
+
+namespace rtu {
+
+CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options,
+                           RecordSink& sink) {
+  // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
+  TimingEstimator estimator;
+  auto first = open_capture(path);
+  Chunk chunk;
+  while (first->next(chunk)) estimator.add(chunk);
+
+  CaptureInfo info;
+  info.source = path;
+  if (auto declared = first->declared_settings()) info.line = *declared;
+  if (options.overrides.baud) info.line.baud = *options.overrides.baud;
+  if (options.overrides.parity) info.line.parity = *options.overrides.parity;
+  if (options.overrides.stop_bits) info.line.stop_bits = *options.overrides.stop_bits;
+  const bool exact = first->timing_kind() == TimingKind::kPerByteExact;
+  info.per_byte_timing = exact || estimator.mostly_single_bytes();
+  info.timing_resolution =
+      options.resolution ? *options.resolution : estimator.resolution(first->timestamp_precision());
+  info.response_timeout = options.response_timeout;
+  first.reset();
+
+  // Pass 2: decode.
+  PipelineOptions pipeline_options;
+  pipeline_options.line = info.line;
+  pipeline_options.response_timeout = info.response_timeout;
+  pipeline_options.timing_resolution = info.timing_resolution;
+  pipeline_options.per_byte_timing = exact;
+  DecodePipeline pipeline(pipeline_options, sink);
+  pipeline.start(info);
+  auto second = open_capture(path, [](std::string_view) {});
+  try {
+    while (second->next(chunk)) pipeline.push(chunk);
+  } catch (...) {
+    pipeline.finish();  // everything before the damage is still delivered
+    throw;
+  }
+  pipeline.finish();
+  return info;
+}
+
+}  // namespace rtu

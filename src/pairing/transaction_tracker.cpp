@@ -27,10 +27,11 @@ Role TransactionTracker::decide_role(const Record& frame) const {
   if (fits_request && !fits_response) return Role::kRequest;
   if (fits_response && !fits_request) return Role::kResponse;
   if (fits_request && fits_response) return awaited ? Role::kResponse : Role::kRequest;
-  // Fits no length rule: a broken frame, or a function with no rule (vendor codes).
+  // Fits no length rule: a function with no rule (vendor codes), a frame whose counts lie,
+  // or a damaged one. Order decides where the CRC vouches for the frame: a response is
+  // what the open request awaits, anything else starts a new exchange.
   if (awaited) return Role::kResponse;
-  if (!is_public_function(frame.function()) && frame.crc_ok) return Role::kRequest;
-  return Role::kUnknown;
+  return frame.crc_ok ? Role::kRequest : Role::kUnknown;
 }
 
 void TransactionTracker::on_record(Record& record) {

@@ -1,5 +1,6 @@
 #include "pipeline/replay.hpp"
 
+#include "capture/input_error.hpp"
 #include "capture/open_capture.hpp"
 #include "framing/timing_estimator.hpp"
 
@@ -11,7 +12,12 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   TimingEstimator estimator;
   auto first = open_capture(path);
   Chunk chunk;
-  while (first->next(chunk)) estimator.add(chunk);
+  try {
+    while (first->next(chunk)) estimator.add(chunk);
+  } catch (const InputError&) {
+    // Damaged input: learn from what precedes the damage; pass 2 decodes up to it and
+    // then reports the error.
+  }
 
   CaptureInfo info;
   info.source = path;

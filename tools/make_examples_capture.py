@@ -10,7 +10,11 @@ with their CRCs recomputed. Timing: bytes of a frame back to back at 11 bits / 9
 slave latency 5-20 ms from a fixed seed, 50 ms from the end of one transaction to the next
 request. Run it again to reproduce the file exactly; never edit the capture by hand.
 
-Usage: tools/make_examples_capture.py [OUTPUT]   (default: captures/device_examples.hex)
+The same bytes and times are also written as the two Saleae Logic export layouts
+(captures/device_examples_saleae_legacy.csv, captures/device_examples_saleae_table.csv), so
+that both readers are decoded end to end by the golden tests.
+
+Usage: tools/make_examples_capture.py [OUTPUT_DIR]   (default: captures/)
 """
 
 import os
@@ -112,43 +116,91 @@ def fmt_time(ns):
     return f"{sign}{ns // 1_000_000_000}.{ns % 1_000_000_000:09d}"
 
 
-def main():
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    out_path = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "captures",
-                                                                  "device_examples.hex")
+def bus_events():
+    """[(label or None, start_ns, byte)]: the whole bus, byte by byte; label on a frame's first
+    request byte names the transaction."""
     rng = random.Random(SEED)
-    lines = [
-        "# Every CRC-checked example frame of the four device documents (TH900, YAKOTEC,",
-        "# YW2050, YW2300 in ../shared/devices/) as request/response exchanges on one bus.",
-        "# Written by tools/make_examples_capture.py; regenerate it, never edit it by hand.",
-        "# baud=9600 parity=E stop=1",
-        "# One byte per line; the time is when the byte's stop bit ended (11 bits at 9600 baud =",
-        "# 1145.833 us a character), bytes of a frame back to back, slave latency 5-20 ms,",
-        "# 50 ms from the end of one transaction to the next request.",
-        "# The documents put every example at slave 1. YAKOTEC keeps slave 1, byte for byte as",
-        "# documented (with its bad-CRC request and its malformed FC10 request); TH900 is moved",
-        "# to slave 2, YW2050 to 3 and YW2300 to 4, with their CRCs recomputed.",
-    ]
-    t = START_NS
+    events = []
+    t = START_NS  # end of the last byte on the bus
 
-    def emit(data):
+    def emit(data, label=None):
         nonlocal t
-        for b in data:
+        for i, b in enumerate(data):
+            events.append((label if i == 0 else None, t, b))
             t += CHAR_NS
-            lines.append(f"{fmt_time(t)} {b:02X}")
 
     for device, address, examples in DEVICES:
         for description, request_text, response_text in examples:
-            lines.append(f"# {device} @ {address}: {description}")
             request = frame(request_text, address, request_text in BAD_CRC_REQUESTS)
-            emit(request)
+            emit(request, f"{device} @ {address}: {description}")
             if response_text is not None:
                 response = request if response_text == "echo" else frame(response_text, address)
                 t += rng.randint(*LATENCY_RANGE_US) * 1000
                 emit(response)
             t += GAP_BETWEEN_TRANSACTIONS_NS
-    with open(out_path, "w", encoding="ascii", newline="\n") as out:
-        out.write("\n".join(lines) + "\n")
+    return events
+
+
+HEADER = [
+    "Every CRC-checked example frame of the four device documents (TH900, YAKOTEC,",
+    "YW2050, YW2300 in ../shared/devices/) as request/response exchanges on one bus.",
+    "Written by tools/make_examples_capture.py; regenerate it, never edit it by hand.",
+    "baud=9600 parity=E stop=1",
+    "One byte per line; the time is when the byte's stop bit ended (11 bits at 9600 baud =",
+    "1145.833 us a character), bytes of a frame back to back, slave latency 5-20 ms,",
+    "50 ms from the end of one transaction to the next request.",
+    "The documents put every example at slave 1. YAKOTEC keeps slave 1, byte for byte as",
+    "documented (with its bad-CRC request and its malformed FC10 request); TH900 is moved",
+    "to slave 2, YW2050 to 3 and YW2300 to 4, with their CRCs recomputed.",
+]
+
+
+def write_hex(path, events):
+    lines = ["# " + h for h in HEADER]
+    for label, start, b in events:
+        if label:
+            lines.append(f"# {label}")
+        lines.append(f"{fmt_time(start + CHAR_NS)} {b:02X}")
+    return lines
+
+
+def write_saleae_legacy(path, events):
+    """Logic 1.x / legacy export: start-bit times relative to the trigger (set on the first
+    byte), 15 decimals as the analyzer writes them."""
+    trigger = events[0][1]
+    lines = ["Time [s],Value,Parity Error,Framing Error"]
+    for _, start, b in events:
+        rel = start - trigger
+        lines.append(f"{fmt_time(rel)}000000,0x{b:02X},,")
+    return lines
+
+
+def write_saleae_table(path, events):
+    """Logic 2 data table export: times relative to the capture start (1 ms before the first
+    byte), the duration in e-notation, as Logic 2 writes them."""
+    origin = events[0][1] - 1_000_000
+    lines = ['name,type,start_time,duration,"data"']
+    for _, start, b in events:
+        rel = start - origin
+        lines.append(f'"Async Serial","data",{fmt_time(rel)},{CHAR_NS / 1e9:.6e},0x{b:02X}')
+    return lines
+
+
+OUTPUTS = [
+    ("device_examples.hex", write_hex),
+    ("device_examples_saleae_legacy.csv", write_saleae_legacy),
+    ("device_examples_saleae_table.csv", write_saleae_table),
+]
+
+
+def main():
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    out_dir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "captures")
+    events = bus_events()
+    for name, writer in OUTPUTS:
+        path = os.path.join(out_dir, name)
+        with open(path, "w", encoding="ascii", newline="\n") as out:
+            out.write("\n".join(writer(path, events)) + "\n")
 
 
 if __name__ == "__main__":

@@ -22,7 +22,9 @@ class ChunkSource {
   virtual bool next(Chunk& out) = 0;
   // Line settings the input itself declares (e.g. "# baud=9600 parity=E stop=1").
   // Known once the first chunk was read (or the end reached).
-  [[nodiscard]] virtual std::optional<LineSettings> declared_settings() const { return std::nullopt; }
+  [[nodiscard]] virtual std::optional<LineSettings> declared_settings() const {
+    return std::nullopt;
+  }
   [[nodiscard]] virtual TimingKind timing_kind() const { return TimingKind::kReadCompletion; }
   // Finest step the timestamps are written with (e.g. 1 µs for 6 decimals); 0 = unknown.
   [[nodiscard]] virtual Nanos timestamp_precision() const { return 0; }

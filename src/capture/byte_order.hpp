@@ -1,0 +1,58 @@
+#pragma once
+// Fixed-width integer access in a chosen byte order, for the binary capture formats.
+// pcap and pcapng are written in the writer's order and read in either; the Upper-PDU
+// TLVs and the RTAC serial header are always big-endian.
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace rtu {
+
+enum class ByteOrder : std::uint8_t { kLittle, kBig };
+
+// Reads `N` bytes at `p` as an unsigned integer. The caller has checked the bounds.
+template <typename T>
+T load(const std::uint8_t* p, ByteOrder order) {
+  T value = 0;
+  for (std::size_t i = 0; i < sizeof(T); ++i) {
+    const std::size_t index = order == ByteOrder::kBig ? i : sizeof(T) - 1 - i;
+    value = static_cast<T>((value << 8U) | p[index]);
+  }
+  return value;
+}
+
+inline std::uint16_t load_u16(std::span<const std::uint8_t> b, std::size_t at, ByteOrder o) {
+  return load<std::uint16_t>(b.data() + at, o);
+}
+inline std::uint32_t load_u32(std::span<const std::uint8_t> b, std::size_t at, ByteOrder o) {
+  return load<std::uint32_t>(b.data() + at, o);
+}
+inline std::uint64_t load_u64(std::span<const std::uint8_t> b, std::size_t at, ByteOrder o) {
+  return load<std::uint64_t>(b.data() + at, o);
+}
+
+// Appends `value` to `out` in `order`.
+template <typename T>
+void append(std::vector<std::uint8_t>& out, T value, ByteOrder order) {
+  for (std::size_t i = 0; i < sizeof(T); ++i) {
+    const std::size_t shift = order == ByteOrder::kBig ? 8 * (sizeof(T) - 1 - i) : 8 * i;
+    out.push_back(static_cast<std::uint8_t>((static_cast<std::uint64_t>(value) >> shift) & 0xFFU));
+  }
+}
+
+// Overwrites sizeof(T) bytes of `out` at `at` (for lengths known only after the body).
+template <typename T>
+void store(std::vector<std::uint8_t>& out, std::size_t at, T value, ByteOrder order) {
+  for (std::size_t i = 0; i < sizeof(T); ++i) {
+    const std::size_t shift = order == ByteOrder::kBig ? 8 * (sizeof(T) - 1 - i) : 8 * i;
+    out[at + i] = static_cast<std::uint8_t>((static_cast<std::uint64_t>(value) >> shift) & 0xFFU);
+  }
+}
+
+constexpr ByteOrder host_byte_order() {
+  return std::endian::native == std::endian::big ? ByteOrder::kBig : ByteOrder::kLittle;
+}
+
+}  // namespace rtu

@@ -1,0 +1,69 @@
+#pragma once
+// Records of LINKTYPE_RTAC_SERIAL (250): a 12-byte big-endian header (seconds, µs, event
+// type, UART control lines, reserved footer), then the bytes (tcpdump.org/linktypes/
+// LINKTYPE_RTAC_SERIAL.html). rtuscope writes raw read() chunks and line events with it.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/time.hpp"
+
+namespace rtu {
+
+inline constexpr std::size_t kRtacHeaderSize = 12;
+
+// Event types, with the names Wireshark shows.
+enum class RtacEvent : std::uint8_t {
+  kStatusChange = 0x00,
+  kDataTxStart = 0x01,  // rtuscope: bytes sent by the master (when known)
+  kDataRxStart = 0x02,  // rtuscope: bytes received (the default for sniffed chunks)
+  kDataTxEnd = 0x03,
+  kDataRxEnd = 0x04,
+  kCaptureDataLost = 0x05,
+  kCaptureComplete = 0x06,
+  kFramingError = 0x07,
+  kParityError = 0x08,
+  kSerialBreak = 0x09,
+  kSerialOverflow = 0x0A,
+};
+
+// UART control line bits of header byte 9.
+namespace rtac_lines {
+inline constexpr std::uint8_t kCts = 0x01;
+inline constexpr std::uint8_t kDcd = 0x02;
+inline constexpr std::uint8_t kDsr = 0x04;
+inline constexpr std::uint8_t kRts = 0x08;
+inline constexpr std::uint8_t kDtr = 0x10;
+inline constexpr std::uint8_t kRing = 0x20;
+inline constexpr std::uint8_t kMbok = 0x40;
+}  // namespace rtac_lines
+
+// "PARITY_ERROR"; "UNKNOWN" for codes past 0x0A.
+std::string_view rtac_event_name(std::uint8_t event);
+
+// Replaces `out` with header + payload. `t` ≥ 0, ns since 1970 (stored as s + µs).
+void build_rtac_record(Nanos t, RtacEvent event, std::uint8_t control_lines,
+                       std::span<const std::uint8_t> payload, std::vector<std::uint8_t>& out);
+
+struct RtacRecord {
+  std::uint32_t seconds = 0;
+  std::uint32_t micros = 0;
+  std::uint8_t event = 0;  // RtacEvent value (kept raw: files may hold unknown codes)
+  std::uint8_t control_lines = 0;
+  std::uint16_t footer = 0;
+  std::span<const std::uint8_t> payload;  // view into the parsed record
+
+  [[nodiscard]] Nanos header_time() const {
+    return static_cast<Nanos>(seconds) * kNanosPerSecond + static_cast<Nanos>(micros) * 1000;
+  }
+};
+
+// nullopt (and `error`) when the record is shorter than its header.
+std::optional<RtacRecord> parse_rtac_record(std::span<const std::uint8_t> record,
+                                            std::string& error);
+
+}  // namespace rtu

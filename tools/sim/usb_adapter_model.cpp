@@ -1,0 +1,87 @@
+#include "usb_adapter_model.hpp"
+
+#include <algorithm>
+
+namespace rtu::sim {
+
+std::vector<OutputChunk> chunk_per_byte(std::span<const WireByte> bytes) {
+  std::vector<OutputChunk> out;
+  out.reserve(bytes.size());
+  for (std::size_t i = 0; i < bytes.size(); ++i) out.push_back({bytes[i].end, i, 1});
+  return out;
+}
+
+namespace {
+
+struct Packet {
+  Nanos sent = 0;  // when the chip hands it to the USB
+  std::size_t first = 0;
+  std::size_t count = 0;
+};
+
+// The chip side: bytes in, packets out.
+std::vector<Packet> ftdi_packets(std::span<const WireByte> bytes, const UsbAdapterModel& m,
+                                 Rng& rng) {
+  std::vector<Packet> packets;
+  if (bytes.empty()) return packets;
+  // The timer's phase relative to the traffic is arbitrary.
+  Nanos expiry = bytes.front().end + rng.nanos(0, m.latency - 1);
+  Packet open{0, 0, 0};
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    const Nanos arrive = bytes[i].end;
+    if (expiry <= arrive) {
+      if (open.count > 0) {
+        open.sent = expiry;
+        packets.push_back(open);
+        open.count = 0;
+        expiry += m.latency;
+      }
+      // An idle timer keeps ticking: skip the expiries that found nothing to send.
+      if (expiry <= arrive) expiry += ((arrive - expiry) / m.latency + 1) * m.latency;
+    }
+    if (open.count == 0) open.first = i;
+    ++open.count;
+    if (open.count == m.packet) {
+      open.sent = arrive;
+      packets.push_back(open);
+      open.count = 0;
+      expiry = arrive + m.latency;
+    }
+  }
+  if (open.count > 0) {
+    open.sent = expiry;
+    packets.push_back(open);
+  }
+  return packets;
+}
+
+}  // namespace
+
+std::vector<OutputChunk> chunk_usb(std::span<const WireByte> bytes, const UsbAdapterModel& m,
+                                   Rng rng) {
+  const std::vector<Packet> packets = ftdi_packets(bytes, m, rng);
+  const Nanos frame_phase = rng.nanos(0, m.usb_frame - 1);
+  // A packet reaches the host at the first USB frame boundary not before it was sent.
+  const auto at_host = [&](const Packet& p) {
+    const Nanos since = p.sent - frame_phase;
+    const Nanos frames = since <= 0 ? 0 : (since + m.usb_frame - 1) / m.usb_frame;
+    return frame_phase + frames * m.usb_frame;
+  };
+  std::vector<OutputChunk> out;
+  std::size_t k = 0;
+  while (k < packets.size()) {
+    const Nanos wake = at_host(packets[k]) + rng.nanos(0, m.jitter);
+    OutputChunk chunk{wake, packets[k].first, packets[k].count};
+    ++k;
+    while (k < packets.size() && at_host(packets[k]) <= wake) {
+      chunk.count += packets[k].count;
+      ++k;
+    }
+    // Chunk times strictly increase: a wake-up never precedes the previous one.
+    if (!out.empty()) chunk.t = std::max(chunk.t, out.back().t + 1);
+    out.push_back(chunk);
+  }
+  return out;
+}
+
+}  // namespace rtu::sim

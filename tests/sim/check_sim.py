@@ -1,0 +1,301 @@
+#!/usr/bin/env python3
+"""Checks of the traffic simulator (rtusim) and the accuracy scorer, run by CTest.
+
+  check_sim.py RTUSIM WORKDIR CHECK [RTUSCOPE]
+
+CHECK is one of: determinism, truth, chunking, faults, scorer, decode_clean.
+"""
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "accuracy"))
+import score  # noqa: E402
+
+
+def crc16(data):
+    """CRC-16/MODBUS, written out independently of the C++ one."""
+    crc = 0xFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def fail(msg):
+    print(f"FAIL: {msg}")
+    sys.exit(1)
+
+
+def expect(cond, msg):
+    if not cond:
+        fail(msg)
+
+
+class Sim:
+    def __init__(self, exe, work):
+        self.exe = exe
+        self.work = work
+        os.makedirs(work, exist_ok=True)
+
+    def run(self, name, *args):
+        """Runs rtusim writing NAME.hex, NAME.truth.jsonl, NAME.csv; returns their paths."""
+        paths = {k: os.path.join(self.work, name + ext)
+                 for k, ext in (("hex", ".hex"), ("truth", ".truth.jsonl"), ("csv", ".csv"))}
+        cmd = [self.exe, *args, "--out", paths["hex"], "--truth", paths["truth"],
+               "--saleae", paths["csv"]]
+        subprocess.run(cmd, check=True)
+        return paths
+
+
+def read_hex(path):
+    """(settings comment, [(t_ns, bytes)]) of a text hex capture."""
+    settings = None
+    chunks = []
+    with open(path) as f:
+        for line in f:
+            line = line.strip()
+            if line.startswith("#"):
+                if "baud=" in line and settings is None:
+                    settings = line
+                continue
+            t, *hexes = line.split()
+            sec, frac = t.split(".")
+            expect(len(frac) == 9, f"{path}: time {t} does not have 9 decimals")
+            chunks.append((int(sec) * 10**9 + int(frac), bytes.fromhex("".join(hexes))))
+    return settings, chunks
+
+
+def read_truth(path):
+    with open(path) as f:
+        lines = [json.loads(x) for x in f if x.strip()]
+    expect(lines and lines[0]["kind"] == "capture", f"{path}: first line is not the capture header")
+    return lines[0], lines[1:]
+
+
+def ns(text):
+    sec, frac = f"{text:.9f}".split(".") if isinstance(text, float) else str(text).split(".")
+    return int(sec) * 10**9 + int(frac)
+
+
+def read_csv_bytes(path):
+    out = []
+    with open(path) as f:
+        header = f.readline().strip()
+        expect(header == 'name,type,start_time,duration,"data"', f"{path}: header {header}")
+        for line in f:
+            name, kind, start, dur, data = line.strip().split(",")
+            expect(name == '"Async Serial"' and kind == '"data"', f"{path}: row {line}")
+            out.append((ns(start), ns(dur), int(data, 16)))
+    return out
+
+
+def raw_truth_times(path):
+    """t/t_end of each truth record exactly as written (no float rounding)."""
+    out = []
+    with open(path) as f:
+        for line in f:
+            r = json.loads(line, parse_float=lambda s: s)
+            if r["kind"] in ("frame", "noise"):
+                out.append((ns(r["t"]), ns(r["t_end"])))
+    return out
+
+
+def check_determinism(sim):
+    args = ["--seed", "7", "--transactions", "300", "--faults", "0.2", "--chunking", "usb"]
+    a = sim.run("det_a", *args)
+    b = sim.run("det_b", *args)
+    for k in a:
+        da = open(a[k], "rb").read().replace(b"det_a", b"det_x")
+        db = open(b[k], "rb").read().replace(b"det_b", b"det_x")
+        expect(da == db, f"same seed gave different {k} files")
+    c = sim.run("det_c", "--seed", "8", *args[2:])
+    expect(open(c["truth"]).read().split("\n", 1)[1] != open(a["truth"]).read().split("\n", 1)[1],
+           "another seed gave the same truth")
+
+
+def check_truth(sim):
+    for baud, parity, stop, bits in (("9600", "E", "1", 11), ("19200", "N", "2", 11),
+                                     ("115200", "N", "1", 10), ("38400", "O", "1", 11)):
+        p = sim.run(f"truth_{baud}", "--seed", "11", "--transactions", "400", "--faults", "0.3",
+                    "--baud", baud, "--parity", parity, "--stop", stop)
+        header, recs = read_truth(p["truth"])
+        expect(header["bits_per_char"] == bits, f"{baud}: bits_per_char {header['bits_per_char']}")
+        settings, chunks = read_hex(p["hex"])
+        expect(settings == f"# baud={baud} parity={parity} stop={stop}", f"settings line {settings}")
+        stream = b"".join(c for _, c in chunks)
+        truth_stream = b"".join(bytes.fromhex(r["hex"]) for r in recs)
+        expect(stream == truth_stream, f"{baud}: capture bytes differ from the truth's")
+        expect(header["bytes"] == len(stream) and header["records"] == len(recs), "header counts")
+        char_ns = bits * 10**9 // int(baud)
+        times = raw_truth_times(p["truth"])
+        saleae = read_csv_bytes(p["csv"])
+        expect([v for _, _, v in saleae] == list(stream), "Saleae bytes differ from the capture's")
+        i = 0
+        prev_end = None
+        for r, (t0, t1) in zip(recs, times):
+            data = bytes.fromhex(r["hex"])
+            expect(len(data) > 0, "empty record")
+            # Every byte's exact timing agrees in the per-byte capture, the CSV and the truth.
+            expect(saleae[i][0] == t0, f"record at {r['t']}: CSV start {saleae[i][0]} != {t0}")
+            expect(chunks[i + len(data) - 1][0] == t1, f"record at {r['t']}: end time differs")
+            for k in range(len(data)):
+                expect(saleae[i + k][1] == char_ns, "byte duration is not one character time")
+                expect(chunks[i + k][0] == saleae[i + k][0] + char_ns, "per-byte time != byte end")
+            expect(prev_end is None or t0 >= prev_end, f"records overlap at {r['t']}")
+            prev_end = t1
+            i += len(data)
+            if r["kind"] != "frame":
+                continue
+            faults = set(r["faults"])
+            crc_ok = len(data) >= 4 and crc16(data) == 0
+            if "truncated" in faults:
+                continue
+            if "crc" in faults:
+                expect(not crc_ok, f"frame with fault crc has a valid CRC: {r['hex']}")
+            else:
+                expect(crc_ok, f"frame without fault crc has a bad CRC: {r['hex']}")
+            expect(r["slave"] == data[0] and r["fc"] == data[1], "slave/fc differ from the bytes")
+
+
+def check_chunking(sim):
+    for baud in ("9600", "115200"):
+        common = ["--seed", "21", "--transactions", "500", "--faults", "0.1", "--baud", baud]
+        per = sim.run(f"chunk_per_{baud}", *common, "--chunking", "perbyte")
+        usb = sim.run(f"chunk_usb_{baud}", *common, "--chunking", "usb")
+        _, pchunks = read_hex(per["hex"])
+        _, uchunks = read_hex(usb["hex"])
+        expect(all(len(c) == 1 for _, c in pchunks), "per-byte capture has a multi-byte line")
+        pstream = b"".join(c for _, c in pchunks)
+        ustream = b"".join(c for _, c in uchunks)
+        expect(pstream == ustream, f"{baud}: per-byte and USB captures carry different bytes")
+        expect(len(uchunks) < len(pchunks) / 2, f"{baud}: USB model hardly batches anything")
+        expect(max(len(c) for _, c in uchunks) > 1, "no multi-byte USB chunk")
+        i = 0
+        prev = None
+        for t, c in uchunks:
+            expect(prev is None or t > prev, f"USB timestamps go backwards at {t}")
+            last_byte_end = pchunks[i + len(c) - 1][0]
+            expect(t >= last_byte_end, f"USB chunk at {t} precedes its last byte's end {last_byte_end}")
+            i += len(c)
+            prev = t
+    # Packets never exceed the packet size unless the host merged them; with no jitter and a
+    # long latency timer, a full packet is sent as soon as it is full.
+    big = sim.run("chunk_packet", "--seed", "3", "--transactions", "200", "--chunking", "usb",
+                  "--packet", "8", "--latency-ms", "200", "--jitter-us", "0")
+    _, chunks = read_hex(big["hex"])
+    expect(max(len(c) for _, c in chunks) == 8, "packet size not honoured")
+
+
+def check_faults(sim):
+    clean = sim.run("clean", "--seed", "5", "--transactions", "600")
+    _, recs = read_truth(clean["truth"])
+    expect(all(r["kind"] == "frame" for r in recs), "clean traffic has noise records")
+    expect(all(not r["faults"] for r in recs), "clean traffic has faults")
+    fcs = {r["fc"] for r in recs}
+    for fc in (1, 2, 3, 5, 6, 8, 0x10, 0x11, 0x14, 0x16, 0x17, 0x18, 0x2B, 0x41):
+        expect(fc in fcs, f"function code {fc:#04x} never appears in 600 clean transactions")
+    expect({r["slave"] for r in recs} == {1, 2, 3, 4, 17}, "not every device answers")
+    dirty = sim.run("dirty", "--seed", "5", "--transactions", "1500", "--faults", "1")
+    _, recs = read_truth(dirty["truth"])
+    seen = set()
+    for r in recs:
+        if r["kind"] == "frame":
+            seen |= set(r["faults"])
+            if "broadcast" in r["faults"]:
+                expect(r["slave"] == 0 and r["fc"] in (5, 6, 0x0F, 0x10), "broadcast is not a write")
+            if "exception" in r["faults"]:
+                expect(r["fc"] & 0x80, "exception fault on a normal response")
+        else:
+            seen.add("noise:" + r["cause"])
+    for key in ("crc", "t1.5", "t3.5", "timeout", "truncated", "wrong_slave", "exception",
+                "broadcast", "noise:burst", "noise:turnaround"):
+        expect(key in seen, f"fault {key} never injected at --faults 1")
+    only = sim.run("only_crc", "--seed", "5", "--transactions", "300", "--faults", "1",
+                   "--fault-kinds", "crc", "--devices", "yakotec")
+    _, recs = read_truth(only["truth"])
+    # YAKOTEC answers a request with a bad CRC with its exception 01 (device document).
+    answered = [(a, b) for a, b in zip(recs, recs[1:])
+                if "crc" in a["faults"] and a["role"] == "request" and b["role"] == "response"
+                and b["txn"] == a["txn"]]
+    expect(answered, "YAKOTEC never answered a bad-CRC request")
+    for _, b in answered:
+        expect(bytes.fromhex(b["hex"])[2] == 1 and b["fc"] & 0x80, "YAKOTEC bad-CRC answer")
+
+
+def check_scorer(sim):
+    p = sim.run("score", "--seed", "9", "--transactions", "400", "--faults", "0.2")
+    truth = score.load(p["truth"])
+    s = score.score(truth, truth)
+    expect(s["found"] == s["truth_frames"] and s["true_frames"] == s["decoded_frames"],
+           "truth against itself is not 100%")
+    expect(s["bytes_ok"] == 1 and s["paired"] == s["pairs"] and s["false_pairs"] == 0,
+           "truth against itself: bytes or pairing not perfect")
+    expect(s["pairs"] > 300, "too few scorable pairs")
+
+    def rescore(records):
+        # Positions are recomputed as a decoder's output would give them.
+        out = []
+        pos = 0
+        for r in records:
+            r = dict(r)
+            r["_pos"] = pos
+            pos += len(r["_hex"]) // 2
+            out.append(r)
+        return score.score(truth, out)
+
+    frames = [i for i, r in enumerate(truth) if r["kind"] == "frame"]
+    # 1. Two frames glued into one: recall and precision drop, bytes still add up.
+    i = frames[10]
+    glued = dict(truth[i])
+    glued["_hex"] = truth[i]["_hex"] + truth[i + 1]["_hex"]
+    s = rescore(truth[:i] + [glued] + truth[i + 2:])
+    expect(s["found"] == s["truth_frames"] - 2, f"glued frames: found {s['found']}")
+    expect(s["true_frames"] < s["decoded_frames"] and s["bytes_ok"] == 1, "glued frames")
+    # 2. A byte dropped: byte accounting fails.
+    cut = dict(truth[frames[20]])
+    cut["_hex"] = cut["_hex"][2:]
+    s = rescore(truth[:frames[20]] + [cut] + truth[frames[20] + 1:])
+    expect(s["bytes_ok"] == 0, "a dropped byte went unnoticed")
+    # 3. An intact frame reported as noise: a recall miss.
+    noise = dict(truth[frames[30]], kind="noise")
+    s = rescore(truth[:frames[30]] + [noise] + truth[frames[30] + 1:])
+    expect(s["found"] == s["truth_frames"] - 1, "frame-as-noise not counted as a miss")
+    # 4. A response given another request's txn: one lost pair and one false pair.
+    k = next(i for i in frames[40:] if truth[i]["role"] == "response" and not truth[i]["faults"])
+    wrong = dict(truth[k], txn=truth[frames[0]]["txn"])
+    s = rescore(truth[:k] + [wrong] + truth[k + 1:])
+    expect(s["paired"] < s["pairs"] and s["false_pairs"] >= 1, "wrong txn not counted")
+
+
+def check_decode_clean(sim, rtuscope):
+    p = sim.run("decode_clean", "--seed", "4", "--transactions", "300")
+    decoded = os.path.join(sim.work, "decode_clean.decoded.jsonl")
+    with open(decoded, "w") as out:
+        subprocess.run([rtuscope, "decode", p["hex"], "--format", "jsonl"], stdout=out, check=True)
+    s = score.score(score.load(p["truth"]), score.load(decoded))
+    print(s)
+    expect(s["bytes_ok"] == 1, "decoded records do not account for every byte exactly once")
+    expect(s["found"] == s["truth_frames"], f"recall {s['found']}/{s['truth_frames']}")
+    expect(s["true_frames"] == s["decoded_frames"],
+           f"precision {s['true_frames']}/{s['decoded_frames']}")
+    expect(s["paired"] == s["pairs"] and s["false_pairs"] == 0,
+           f"pairing {s['paired']}/{s['pairs']}, false pairs {s['false_pairs']}")
+
+
+def main():
+    exe, work, check = sys.argv[1:4]
+    sim = Sim(exe, os.path.join(work, check))
+    if check == "decode_clean":
+        check_decode_clean(sim, sys.argv[4])
+    else:
+        {"determinism": check_determinism, "truth": check_truth, "chunking": check_chunking,
+         "faults": check_faults, "scorer": check_scorer}[check](sim)
+    print(f"{check}: ok")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Scores a decoder's JSON-lines output against rtusim's ground truth.
+
+Both files hold one JSON object per record in wire order; records of kind "frame" and
+"noise" carry "hex" (every byte of the record). Other kinds (the "capture" header) are
+skipped. A record's stream position is the number of bytes in the records before it, so a
+record is identified by (position, bytes) whatever its timestamps say.
+
+Metrics
+  recall     truth frames found as a decoded record with the same bytes at the same stream
+             position. Intact frames must come out as frames; a frame the wire damaged
+             (faults "crc" or "truncated") also counts when it comes out as one noise record
+             with exactly its bytes, since no decoder can tell such bytes from noise.
+  precision  decoded frames that are truth frames (same position, same bytes).
+  bytes      the decoded records' bytes, concatenated, equal the wire's: every input byte is
+             in exactly one decoded record.
+  pairing    truth transactions (an intact request and its intact response: no crc,
+             truncated or wrong_slave fault) whose two frames share a non-null txn in the
+             decoded output; "false pairs" counts decoded txn groups that are not a truth
+             request/response pair.
+
+Usage
+  score.py TRUTH DECODED [--target 0.999]         one run; exit 1 when below target
+  score.py --manifest FILE                        rows "label<TAB>target<TAB>truth<TAB>decoded";
+                                                  rows with one label are summed; prints a table
+                                                  and "accuracy: N passed, M failed"
+Python 3 standard library only.
+"""
+import argparse
+import json
+import sys
+
+DAMAGE = {"crc", "truncated"}
+UNPAIRABLE = {"crc", "truncated", "wrong_slave"}
+
+
+def load(path):
+    """Frame and noise records of a JSON-lines file, each with its stream position."""
+    records = []
+    pos = 0
+    try:
+        with open(path, encoding="utf-8") as f:
+            for line_no, line in enumerate(f, 1):
+                line = line.strip()
+                if not line:
+                    continue
+                try:
+                    r = json.loads(line)
+                except json.JSONDecodeError as e:
+                    raise SystemExit(f"{path}:{line_no}: not JSON: {e}")
+                if r.get("kind") not in ("frame", "noise"):
+                    continue
+                h = r.get("hex", "")
+                if not isinstance(h, str) or len(h) % 2:
+                    raise SystemExit(f"{path}:{line_no}: expected an even-length hex string")
+                r["_pos"] = pos
+                r["_hex"] = h.lower()
+                pos += len(h) // 2
+                records.append(r)
+    except FileNotFoundError:
+        pass  # a decoder that wrote nothing scores zero
+    return records
+
+
+def score(truth, decoded):
+    """Counts for one truth/decoded pair (see the module doc)."""
+    spans = {(r["_pos"], r["_hex"]): r for r in decoded}
+    truth_frames = [r for r in truth if r["kind"] == "frame"]
+    truth_spans = {(r["_pos"], r["_hex"]): r for r in truth_frames}
+
+    found = {}
+    for t in truth_frames:
+        d = spans.get((t["_pos"], t["_hex"]))
+        if d is None:
+            continue
+        if d["kind"] == "frame" or DAMAGE & set(t.get("faults", [])):
+            found[id(t)] = d
+
+    decoded_frames = [d for d in decoded if d["kind"] == "frame"]
+    true_frames = sum(1 for d in decoded_frames if (d["_pos"], d["_hex"]) in truth_spans)
+
+    # Pairing.
+    by_txn = {}
+    for t in truth_frames:
+        if t.get("txn") is not None:
+            by_txn.setdefault(t["txn"], []).append(t)
+    pairs = 0
+    paired = 0
+    for group in by_txn.values():
+        roles = sorted(g.get("role") for g in group)
+        if roles != ["request", "response"]:
+            continue
+        if any(UNPAIRABLE & set(g.get("faults", [])) for g in group):
+            continue
+        pairs += 1
+        d = [found.get(id(g)) for g in group]
+        if all(x is not None and x.get("txn") is not None for x in d) and d[0]["txn"] == d[1]["txn"]:
+            paired += 1
+    groups = {}
+    for d in decoded:
+        if d.get("txn") is not None:
+            groups.setdefault(d["txn"], []).append(d)
+    false_pairs = 0
+    for group in groups.values():
+        if len(group) < 2:
+            continue
+        ts = [truth_spans.get((d["_pos"], d["_hex"])) for d in group]
+        ok = (len(group) == 2 and all(t is not None for t in ts)
+              and ts[0].get("txn") is not None and ts[0].get("txn") == ts[1].get("txn")
+              and ts[0].get("role") != ts[1].get("role"))
+        if not ok:
+            false_pairs += 1
+
+    truth_stream = "".join(r["_hex"] for r in truth)
+    decoded_stream = "".join(r["_hex"] for r in decoded)
+    return {
+        "truth_frames": len(truth_frames),
+        "found": len(found),
+        "decoded_frames": len(decoded_frames),
+        "true_frames": true_frames,
+        "truth_bytes": len(truth_stream) // 2,
+        "decoded_bytes": len(decoded_stream) // 2,
+        "bytes_ok": 1 if truth_stream == decoded_stream else 0,
+        "pairs": pairs,
+        "paired": paired,
+        "false_pairs": false_pairs,
+        "runs": 1,
+    }
+
+
+def add(a, b):
+    return {k: a.get(k, 0) + b[k] for k in b}
+
+
+def ratio(n, d):
+    return n / d if d else 1.0
+
+
+def verdict(s, target):
+    recall = ratio(s["found"], s["truth_frames"])
+    precision = ratio(s["true_frames"], s["decoded_frames"])
+    ok = recall >= target and precision >= target and s["bytes_ok"] == s["runs"]
+    return recall, precision, ok
+
+
+def pct(x):
+    return f"{100 * x:.3f}%"
+
+
+def print_table(rows):
+    header = ("configuration", "runs", "frames", "recall", "precision", "bytes", "pairing",
+              "false pairs", "target", "result")
+    lines = []
+    passed = failed = 0
+    for label, target, s in rows:
+        recall, precision, ok = verdict(s, target)
+        passed += ok
+        failed += not ok
+        lines.append((label, str(s["runs"]), str(s["truth_frames"]), pct(recall), pct(precision),
+                      f"{s['bytes_ok']}/{s['runs']} ok", pct(ratio(s["paired"], s["pairs"])),
+                      str(s["false_pairs"]), pct(target), "pass" if ok else "FAIL"))
+    widths = [max(len(r[i]) for r in [header] + lines) for i in range(len(header))]
+    for r in [header] + lines:
+        print("  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in
+                        enumerate(zip(r, widths))))
+    print(f"accuracy: {passed} passed, {failed} failed")
+    return failed == 0
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("truth", nargs="?")
+    ap.add_argument("decoded", nargs="?")
+    ap.add_argument("--target", type=float, default=0.999)
+    ap.add_argument("--label", default="run")
+    ap.add_argument("--manifest")
+    args = ap.parse_args(argv)
+    if args.manifest:
+        order = []
+        totals = {}
+        with open(args.manifest, encoding="utf-8") as f:
+            for line in f:
+                if not line.strip():
+                    continue
+                label, target, truth, decoded = line.rstrip("\n").split("\t")
+                s = score(load(truth), load(decoded))
+                if label not in totals:
+                    order.append(label)
+                    totals[label] = (float(target), s)
+                else:
+                    totals[label] = (totals[label][0], add(totals[label][1], s))
+        rows = [(label, totals[label][0], totals[label][1]) for label in order]
+        return 0 if print_table(rows) else 1
+    if not args.truth or not args.decoded:
+        ap.error("give TRUTH and DECODED, or --manifest")
+    s = score(load(args.truth), load(args.decoded))
+    return 0 if print_table([(args.label, args.target, s)]) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
 """Checks of the traffic simulator (rtusim) and the accuracy scorer, run by CTest.
 
-  check_sim.py RTUSIM WORKDIR CHECK [RTUSCOPE]
+  check_sim.py RTUSIM WORKDIR CHECK [RTUSCOPE [SOURCE_DIR]]
 
-CHECK is one of: determinism, truth, chunking, faults, scorer, decode_clean.
+CHECK is one of: determinism, truth, chunking, faults, scorer (rtusim and the scorer alone);
+decode_clean (RTUSCOPE decodes a fresh clean per-byte capture perfectly); captures (each
+simulated capture in SOURCE_DIR/captures is reproduced by its provenance command and decoded
+accurately).
 """
 import json
 import os
@@ -37,7 +40,7 @@ def expect(cond, msg):
 
 class Sim:
     def __init__(self, exe, work):
-        self.exe = exe
+        self.exe = os.path.abspath(exe)
         self.work = work
         os.makedirs(work, exist_ok=True)
 
@@ -277,7 +280,7 @@ def check_decode_clean(sim, rtuscope):
     with open(decoded, "w") as out:
         subprocess.run([rtuscope, "decode", p["hex"], "--format", "jsonl"], stdout=out, check=True)
     s = score.score(score.load(p["truth"]), score.load(decoded))
-    print(s)
+    print({k: v for k, v in s.items() if not k.startswith("_")})
     expect(s["bytes_ok"] == 1, "decoded records do not account for every byte exactly once")
     expect(s["found"] == s["truth_frames"], f"recall {s['found']}/{s['truth_frames']}")
     expect(s["true_frames"] == s["decoded_frames"],
@@ -286,11 +289,50 @@ def check_decode_clean(sim, rtuscope):
            f"pairing {s['paired']}/{s['pairs']}, false pairs {s['false_pairs']}")
 
 
+def check_captures(sim, rtuscope, source_dir):
+    """Every simulated capture in captures/ is what its provenance command writes today, and
+    rtuscope decodes it accurately (clean: 100% frames; with faults: at least 99%)."""
+    captures = os.path.join(source_dir, "captures")
+    truths = sorted(f for f in os.listdir(captures) if f.endswith(".truth.jsonl"))
+    expect(truths, "no simulated captures (*.truth.jsonl) in captures/")
+    for name in truths:
+        truth_path = os.path.join(captures, name)
+        header, _ = read_truth(truth_path)
+        command = header["generator"].split()
+        expect(command[0] == "rtusim", f"{name}: generator is not an rtusim command")
+        # Re-run it with the same relative paths, in a scratch tree.
+        scratch = os.path.join(sim.work, "rerun")
+        os.makedirs(os.path.join(scratch, "captures"), exist_ok=True)
+        subprocess.run([sim.exe, *command[1:]], check=True, cwd=scratch)
+        outputs = [command[i + 1] for i, a in enumerate(command) if a in ("--out", "--truth",
+                                                                           "--saleae")]
+        expect(os.path.join("captures", name) in outputs, f"{name}: command does not write it")
+        for rel in outputs:
+            fresh = open(os.path.join(scratch, rel), "rb").read()
+            kept = open(os.path.join(source_dir, rel), "rb").read()
+            expect(fresh == kept, f"{rel} differs from what its provenance command writes now; "
+                   f"regenerate it with: {header['generator']}")
+        hex_path = next(os.path.join(source_dir, r) for r in outputs if r.endswith(".hex"))
+        decoded = os.path.join(sim.work, name + ".decoded")
+        with open(decoded, "w") as out:
+            subprocess.run([rtuscope, "decode", hex_path, "--format", "jsonl"], stdout=out,
+                           check=True)
+        s = score.score(score.load(truth_path), score.load(decoded))
+        target = 1.0 if "--faults" not in command else 0.99
+        recall = score.ratio(s["found"], s["truth_frames"])
+        precision = score.ratio(s["true_frames"], s["decoded_frames"])
+        print(f"{name}: recall {recall:.4f} precision {precision:.4f} bytes_ok {s['bytes_ok']}")
+        expect(s["bytes_ok"] == 1, f"{name}: decoded records do not account for every byte")
+        expect(recall >= target and precision >= target, f"{name}: below {target}")
+
+
 def main():
     exe, work, check = sys.argv[1:4]
     sim = Sim(exe, os.path.join(work, check))
     if check == "decode_clean":
         check_decode_clean(sim, sys.argv[4])
+    elif check == "captures":
+        check_captures(sim, sys.argv[4], sys.argv[5])
     else:
         {"determinism": check_determinism, "truth": check_truth, "chunking": check_chunking,
          "faults": check_faults, "scorer": check_scorer}[check](sim)

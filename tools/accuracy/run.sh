@@ -7,6 +7,9 @@
 #   tools/accuracy/run.sh [BUILD_DIR]     (default: build, a Release build)
 #   SEEDS="1 2 3" TRANSACTIONS=2000 FAULT_RATE=0.05 KEEP=dir tools/accuracy/run.sh
 #
+# To see what a configuration got wrong: KEEP=dir, then
+#   tools/accuracy/score.py dir/usb_faults_9600_s1.truth.jsonl dir/usb_faults_9600_s1.decoded.jsonl --show 10
+#
 # A benchmark, not a test: it prints a table and "accuracy: N passed, M failed", and exits 1
 # when a configuration fails.
 set -euo pipefail
@@ -42,7 +45,9 @@ for chunking in perbyte usb; do
       label="$chunking $mode $baud"
       for seed in $seeds; do
         base=$work/${chunking}_${mode}_${baud}_s$seed
-        "$build/rtusim" --seed "$seed" --transactions "$transactions" --baud "$baud" \
+        # Each baud rate gets its own traffic; per-byte and USB runs share theirs.
+        "$build/rtusim" --seed "$((seed * 1000000 + baud))" --transactions "$transactions" \
+          --baud "$baud" \
           --faults "$rate" --chunking "$chunking" --out "$base.hex" --truth "$base.truth.jsonl"
         if ! "$build/rtuscope" decode "$base.hex" --format jsonl >"$base.decoded.jsonl" \
           2>"$base.err"; then

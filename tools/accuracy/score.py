@@ -20,7 +20,9 @@ Metrics
              request/response pair.
 
 Usage
-  score.py TRUTH DECODED [--target 0.999]         one run; exit 1 when below target
+  score.py TRUTH DECODED [--target 0.999] [--show N]
+                                                  one run; exit 1 when below target; --show
+                                                  lists missed and false frames
   score.py --manifest FILE                        rows "label<TAB>target<TAB>truth<TAB>decoded";
                                                   rows with one label are summed; prints a table
                                                   and "accuracy: N passed, M failed"
@@ -111,6 +113,9 @@ def score(truth, decoded):
         if not ok:
             false_pairs += 1
 
+    misses = [t for t in truth_frames if id(t) not in found]
+    false_frames = [d for d in decoded_frames if (d["_pos"], d["_hex"]) not in truth_spans]
+
     truth_stream = "".join(r["_hex"] for r in truth)
     decoded_stream = "".join(r["_hex"] for r in decoded)
     return {
@@ -125,11 +130,28 @@ def score(truth, decoded):
         "paired": paired,
         "false_pairs": false_pairs,
         "runs": 1,
+        "_misses": misses,
+        "_false": false_frames,
     }
 
 
 def add(a, b):
-    return {k: a.get(k, 0) + b[k] for k in b}
+    return {k: a.get(k, 0 if not k.startswith("_") else []) + b[k] for k in b}
+
+
+def show_errors(s, limit, decoded):
+    """Prints missed truth frames and false decoded frames with their decoded neighbours."""
+    def brief(r):
+        extra = r.get("faults", r.get("issues", r.get("cause", "")))
+        return f"{r['kind']:5} @{r['_pos']:<7} t={r.get('t')} {r['_hex'][:48]} {extra}"
+    for title, items in (("missed truth frames", s["_misses"]), ("false decoded frames", s["_false"])):
+        print(f"{title}: {len(items)}")
+        for r in items[:limit]:
+            print("  truth  " + brief(r) if title.startswith("missed") else "  decoded " + brief(r))
+            near = [d for d in decoded if d["_pos"] + len(d["_hex"]) // 2 > r["_pos"] - 8
+                    and d["_pos"] < r["_pos"] + len(r["_hex"]) // 2 + 8]
+            for d in near:
+                print("    decoded " + brief(d))
 
 
 def ratio(n, d):
@@ -174,6 +196,8 @@ def main(argv):
     ap.add_argument("--target", type=float, default=0.999)
     ap.add_argument("--label", default="run")
     ap.add_argument("--manifest")
+    ap.add_argument("--show", type=int, default=0, metavar="N",
+                    help="list up to N missed and N false frames (single-run mode)")
     args = ap.parse_args(argv)
     if args.manifest:
         order = []
@@ -193,7 +217,10 @@ def main(argv):
         return 0 if print_table(rows) else 1
     if not args.truth or not args.decoded:
         ap.error("give TRUTH and DECODED, or --manifest")
-    s = score(load(args.truth), load(args.decoded))
+    decoded = load(args.decoded)
+    s = score(load(args.truth), decoded)
+    if args.show:
+        show_errors(s, args.show, decoded)
     return 0 if print_table([(args.label, args.target, s)]) else 1
 
 

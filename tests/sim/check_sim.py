@@ -4,7 +4,8 @@
   check_sim.py RTUSIM WORKDIR CHECK [RTUSCOPE [SOURCE_DIR]]
 
 CHECK is one of: determinism, truth, chunking, faults, scorer (rtusim and the scorer alone);
-decode_clean (RTUSCOPE decodes a fresh clean per-byte capture perfectly); captures (each
+decode_clean (RTUSCOPE decodes a fresh clean per-byte capture perfectly); decode_bytes (every
+byte accounted for under heavy faults); captures (each
 simulated capture in SOURCE_DIR/captures is reproduced by its provenance command and decoded
 accurately).
 """
@@ -275,18 +276,40 @@ def check_scorer(sim):
 
 
 def check_decode_clean(sim, rtuscope):
+    """A clean capture decodes perfectly, from the per-byte hex file and from the same bytes
+    as a Saleae data-table export."""
     p = sim.run("decode_clean", "--seed", "4", "--transactions", "300")
-    decoded = os.path.join(sim.work, "decode_clean.decoded.jsonl")
-    with open(decoded, "w") as out:
-        subprocess.run([rtuscope, "decode", p["hex"], "--format", "jsonl"], stdout=out, check=True)
-    s = score.score(score.load(p["truth"]), score.load(decoded))
-    print({k: v for k, v in s.items() if not k.startswith("_")})
-    expect(s["bytes_ok"] == 1, "decoded records do not account for every byte exactly once")
-    expect(s["found"] == s["truth_frames"], f"recall {s['found']}/{s['truth_frames']}")
-    expect(s["true_frames"] == s["decoded_frames"],
-           f"precision {s['true_frames']}/{s['decoded_frames']}")
-    expect(s["paired"] == s["pairs"] and s["false_pairs"] == 0,
-           f"pairing {s['paired']}/{s['pairs']}, false pairs {s['false_pairs']}")
+    for kind in ("hex", "csv"):
+        decoded = os.path.join(sim.work, f"decode_clean.{kind}.decoded.jsonl")
+        with open(decoded, "w") as out:
+            subprocess.run([rtuscope, "decode", p[kind], "--format", "jsonl"], stdout=out,
+                           check=True)
+        s = score.score(score.load(p["truth"]), score.load(decoded))
+        print(kind, {k: v for k, v in s.items() if not k.startswith("_")})
+        expect(s["bytes_ok"] == 1, f"{kind}: decoded records do not account for every byte")
+        expect(s["found"] == s["truth_frames"], f"{kind}: recall {s['found']}/{s['truth_frames']}")
+        expect(s["true_frames"] == s["decoded_frames"],
+               f"{kind}: precision {s['true_frames']}/{s['decoded_frames']}")
+        expect(s["paired"] == s["pairs"] and s["false_pairs"] == 0,
+               f"{kind}: pairing {s['paired']}/{s['pairs']}, false pairs {s['false_pairs']}")
+
+
+def check_decode_bytes(sim, rtuscope):
+    """Under heavy faults (half the transactions), decode still succeeds and puts every input
+    byte into exactly one record, per byte and through the USB model."""
+    for chunking in ("perbyte", "usb"):
+        for baud in ("9600", "115200"):
+            name = f"heavy_{chunking}_{baud}"
+            p = sim.run(name, "--seed", "13", "--transactions", "400", "--faults", "0.5",
+                        "--baud", baud, "--chunking", chunking)
+            decoded = os.path.join(sim.work, name + ".decoded.jsonl")
+            with open(decoded, "w") as out:
+                subprocess.run([rtuscope, "decode", p["hex"], "--format", "jsonl"], stdout=out,
+                               check=True)
+            s = score.score(score.load(p["truth"]), score.load(decoded))
+            print(f"{name}: recall {score.ratio(s['found'], s['truth_frames']):.4f} "
+                  f"precision {score.ratio(s['true_frames'], s['decoded_frames']):.4f}")
+            expect(s["bytes_ok"] == 1, f"{name}: decoded records do not account for every byte")
 
 
 def check_captures(sim, rtuscope, source_dir):
@@ -331,6 +354,8 @@ def main():
     sim = Sim(exe, os.path.join(work, check))
     if check == "decode_clean":
         check_decode_clean(sim, sys.argv[4])
+    elif check == "decode_bytes":
+        check_decode_bytes(sim, sys.argv[4])
     elif check == "captures":
         check_captures(sim, sys.argv[4], sys.argv[5])
     else:

@@ -14,6 +14,8 @@ Metrics
   precision  decoded frames that are truth frames (same position, same bytes).
   bytes      the decoded records' bytes, concatenated, equal the wire's: every input byte is
              in exactly one decoded record.
+  t error    |decoded t - truth t| of found frames, median and maximum, in ms (reported only:
+             with batched reads the decoder can only estimate when a frame started).
   pairing    truth transactions (an intact request and its intact response: no crc,
              truncated or wrong_slave fault) whose two frames share a non-null txn in the
              decoded output; "false pairs" counts decoded txn groups that are not a truth
@@ -113,6 +115,13 @@ def score(truth, decoded):
         if not ok:
             false_pairs += 1
 
+    # How far the decoder's start time of each found frame is from the truth's.
+    t_errors = []
+    for t in truth_frames:
+        d = found.get(id(t))
+        if d is not None and isinstance(d.get("t"), (int, float)):
+            t_errors.append(abs(float(d["t"]) - float(t["t"])) * 1e3)
+
     misses = [t for t in truth_frames if id(t) not in found]
     false_frames = [d for d in decoded_frames if (d["_pos"], d["_hex"]) not in truth_spans]
 
@@ -130,6 +139,7 @@ def score(truth, decoded):
         "paired": paired,
         "false_pairs": false_pairs,
         "runs": 1,
+        "_t_errors": t_errors,
         "_misses": misses,
         "_false": false_frames,
     }
@@ -165,13 +175,20 @@ def verdict(s, target):
     return recall, precision, ok
 
 
+def t_error_text(errors):
+    if not errors:
+        return "-"
+    e = sorted(errors)
+    return f"{e[len(e) // 2]:.3f}/{e[-1]:.3f}"
+
+
 def pct(x):
     return f"{100 * x:.3f}%"
 
 
 def print_table(rows):
     header = ("configuration", "runs", "frames", "recall", "precision", "bytes", "pairing",
-              "false pairs", "target", "result")
+              "false pairs", "t error ms p50/max", "target", "result")
     lines = []
     passed = failed = 0
     for label, target, s in rows:
@@ -180,7 +197,8 @@ def print_table(rows):
         failed += not ok
         lines.append((label, str(s["runs"]), str(s["truth_frames"]), pct(recall), pct(precision),
                       f"{s['bytes_ok']}/{s['runs']} ok", pct(ratio(s["paired"], s["pairs"])),
-                      str(s["false_pairs"]), pct(target), "pass" if ok else "FAIL"))
+                      str(s["false_pairs"]), t_error_text(s["_t_errors"]), pct(target),
+                      "pass" if ok else "FAIL"))
     widths = [max(len(r[i]) for r in [header] + lines) for i in range(len(header))]
     for r in [header] + lines:
         print("  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in

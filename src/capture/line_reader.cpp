@@ -74,6 +74,11 @@ bool LineReader::next(std::string_view& line) {
   }
   ++line_number_;
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  // Editors on Windows start UTF-8 files with a byte-order mark; it is not content.
+  constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+  if (line_number_ == 1 && line.substr(0, kUtf8Bom.size()) == kUtf8Bom) {
+    line.remove_prefix(kUtf8Bom.size());
+  }
   return true;
 }
 

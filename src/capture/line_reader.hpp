@@ -18,7 +18,8 @@ class LineReader {
   // Opens `path`; throws InputError "PATH: cannot open: <strerror>" when that fails.
   explicit LineReader(const std::string& path);
 
-  // The next line without its '\n' (and without a '\r' before it). The view stays valid until
+  // The next line without its '\n' (and without a '\r' before it; on line 1 without a UTF-8
+  // byte-order mark). The view stays valid until
   // the next call. Returns false at the end of the file. Throws InputError on read errors and
   // on lines longer than kMaxLineLength.
   bool next(std::string_view& line);

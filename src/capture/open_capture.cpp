@@ -44,6 +44,38 @@ bool is_pcap_magic(std::string_view head) {
   return false;
 }
 
+bool starts_with(std::string_view s, std::string_view prefix) {
+  return s.substr(0, prefix.size()) == prefix;
+}
+
+// Files people hand us that no reader can use; saying what they are beats "expected a
+// timestamp, found '\x1f\x8b...'". Returns the explanation, or nothing.
+std::string_view unusable_kind(std::string_view head) {
+  struct Kind {
+    std::string_view magic;
+    std::string_view what;
+  };
+  static constexpr std::array<Kind, 7> kKinds = {{
+      {std::string_view("\x1F\x8B", 2), "is gzip-compressed; decompress it first (zcat)"},
+      {std::string_view("\x28\xB5\x2F\xFD", 4),
+       "is zstd-compressed; decompress it first (zstdcat)"},
+      {std::string_view("\xFD\x37\x7A\x58\x5A\x00", 6),
+       "is xz-compressed; decompress it first (xzcat)"},
+      {std::string_view("BZh", 3), "is bzip2-compressed; decompress it first (bzcat)"},
+      {std::string_view("PK\x03\x04", 4), "is a zip archive; extract the capture first"},
+      {std::string_view("\xFF\xFE", 2), "is UTF-16 text; save it as ASCII or UTF-8"},
+      {std::string_view("\xFE\xFF", 2), "is UTF-16 text; save it as ASCII or UTF-8"},
+  }};
+  for (const auto& kind : kKinds) {
+    if (starts_with(head, kind.magic)) return kind.what;
+  }
+  // UTF-16 without a byte-order mark: every other byte of ASCII text is zero.
+  if (head.size() >= 4 && head[1] == '\0' && head[3] == '\0' && head[0] != '\0') {
+    return "is UTF-16 text; save it as ASCII or UTF-8";
+  }
+  return {};
+}
+
 }  // namespace
 
 CaptureFormat detect_capture_format(const std::string& path) {
@@ -57,9 +89,16 @@ CaptureFormat detect_capture_format(const std::string& path) {
   std::fclose(file);
   if (read_failed)
     throw InputError(fmt::format("{}: cannot read: {}", path, std::strerror(read_errno)));
-  const std::string_view head(buffer.data(), n);
+  std::string_view head(buffer.data(), n);
 
   if (is_pcap_magic(head)) return CaptureFormat::kPcap;
+  if (const auto what = unusable_kind(head); !what.empty()) {
+    throw InputError(
+        fmt::format("{}: the file {}; expected a text hex capture or a Saleae Logic "
+                    "CSV export",
+                    path, what));
+  }
+  if (starts_with(head, "\xEF\xBB\xBF")) head.remove_prefix(3);  // UTF-8 byte-order mark
   const std::string_view first_line = head.substr(0, head.find('\n'));
   if (recognise_saleae_header(first_line) != SaleaeLayout::kNone) return CaptureFormat::kSaleaeCsv;
   const std::size_t first = head.find_first_not_of(" \t\r\n");

@@ -18,7 +18,9 @@ enum class CaptureFormat : std::uint8_t { kTextHex, kSaleaeCsv, kPcap };
 //   → kTextHex;
 // - otherwise by extension: .csv → kSaleaeCsv, .pcap/.pcapng/.cap → kPcap, anything else
 //   → kTextHex, whose reader then says exactly where the content is not what it expects.
-// Throws InputError "PATH: cannot open: <strerror>" when the file cannot be read.
+// Throws InputError "PATH: cannot open: <strerror>" when the file cannot be read, and
+// "PATH: the file is gzip-compressed; ..." (also zstd, xz, bzip2, zip, UTF-16 text) for files
+// that no reader can use but people do hand over.
 CaptureFormat detect_capture_format(const std::string& path);
 
 // The reader for `path`. Throws InputError when the file cannot be opened or its format has no

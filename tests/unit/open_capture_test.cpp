@@ -101,6 +101,41 @@ TEST(OpenCapture, MissingOrUnreadableFileNamesThePathAndTheReason) {
   EXPECT_EQ(error_of(folder), folder + ": cannot read: Is a directory");
 }
 
+TEST(OpenCapture, CompressedAndUtf16FilesAreNamedForWhatTheyAre) {
+  TempDir dir;
+  const std::string tail = "; expected a text hex capture or a Saleae Logic CSV export";
+  const auto gz = dir.write("c.hex.gz", std::string_view("\x1F\x8B\x08\x00", 4));
+  const auto zst = dir.write("c.hex.zst", std::string_view("\x28\xB5\x2F\xFD", 4));
+  const auto utf16 = dir.write("c.hex", std::string_view("\xFF\xFE"
+                                                         "0\0.\0"
+                                                         "1\0 \0",
+                                                         10));
+  const auto utf16_no_bom = dir.write("d.hex", std::string_view("0\0.\0"
+                                                                "1\0 \0",
+                                                                8));
+  EXPECT_EQ(error_of(gz), gz + ": the file is gzip-compressed; decompress it first (zcat)" + tail);
+  EXPECT_EQ(error_of(zst),
+            zst + ": the file is zstd-compressed; decompress it first (zstdcat)" + tail);
+  EXPECT_EQ(error_of(utf16), utf16 + ": the file is UTF-16 text; save it as ASCII or UTF-8" + tail);
+  EXPECT_EQ(error_of(utf16_no_bom),
+            utf16_no_bom + ": the file is UTF-16 text; save it as ASCII or UTF-8" + tail);
+}
+
+TEST(OpenCapture, Utf8ByteOrderMarkIsIgnored) {
+  TempDir dir;
+  const auto text = dir.write("bom.txt", "\xEF\xBB\xBF# baud=19200\n0.5 01\n");
+  EXPECT_EQ(detect_capture_format(text), CaptureFormat::kTextHex);
+  auto source = open_capture(text);
+  EXPECT_EQ(read_all(*source).size(), 1U);
+  ASSERT_TRUE(source->declared_settings().has_value());
+  EXPECT_EQ(source->declared_settings()->baud, 19200U);
+  const auto legacy =
+      dir.write("bom.csv", "\xEF\xBB\xBFTime [s],Value,Parity Error,Framing Error\n0.5,0x01,,\n");
+  EXPECT_EQ(detect_capture_format(legacy), CaptureFormat::kSaleaeCsv);
+  auto saleae = open_capture(legacy);
+  EXPECT_EQ(read_all(*saleae).size(), 1U);
+}
+
 TEST(OpenCapture, EmptyFileIsAnEmptyTextCapture) {
   TempDir dir;
   const auto empty = dir.write("empty.hex", "");

@@ -13,6 +13,9 @@ namespace rtu {
 namespace {
 
 constexpr std::size_t kMinAdu = 4;  // address + function + CRC
+// How many frames with no length rule may vouch for each other in a row (vendor function
+// codes polled back to back through a USB adapter).
+constexpr int kGenericDepth = 2;
 
 // Role order to try: the one the bus state expects first.
 struct RoleOrder {
@@ -109,16 +112,23 @@ bool Framer::boundary_at(std::size_t pos) const {
   return gap != kUnknownTime && gap - config_.resolution >= t3_5_;
 }
 
+bool Framer::awaited_response_at(std::size_t pos) const {
+  return expect_response_ && buffered() - pos >= 2 && byte_at(pos) == expected_slave_ &&
+         (byte_at(pos + 1) & 0x7FU) == (expected_function_ & 0x7FU);
+}
+
+// Whether damaged bytes at `pos` still read as a frame: the answer the bus is waiting
+// for, or a request-shaped frame of a slave and function the bus has seen. A response
+// nobody asked for with a bad CRC is far more likely noise.
 bool Framer::plausible_start(std::size_t pos) const {
   if (buffered() - pos < 2) return false;
+  if (awaited_response_at(pos)) return true;
   const std::uint8_t slave = byte_at(pos);
   const std::uint8_t function = byte_at(pos + 1);
-  const bool known_slave =
-      active_slaves_.test(slave) || (expect_response_ && slave == expected_slave_);
-  const std::uint8_t base = function & 0x7FU;
-  const bool known_function = is_public_function(base) || is_user_defined_function(base) ||
-                              (expect_response_ && base == (expected_function_ & 0x7FU));
-  return known_slave && known_function;
+  if ((function & 0x80U) != 0 || !active_slaves_.test(slave)) return false;
+  if (!is_public_function(function) && !is_user_defined_function(function)) return false;
+  const std::span<const std::uint8_t> view(bytes_.data() + begin_ + pos, buffered() - pos);
+  return predict_shape(view, Role::kRequest).status != ShapeStatus::kImpossible;
 }
 
 std::size_t Framer::predicted_length(std::size_t pos) const {
@@ -133,7 +143,8 @@ std::size_t Framer::predicted_length(std::size_t pos) const {
   return 0;
 }
 
-std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, bool* pending) const {
+std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
+                                       bool* pending) const {
   const std::size_t avail = buffered() - pos;
   const std::size_t limit = std::min(avail, kMaxAdu);
   std::uint16_t crc = kCrcInit;
@@ -148,7 +159,7 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, bool* pendi
       return 0;
     }
     bool next_pending = false;
-    if (boundary_at(next) || confirmed_length(next, at_end, false, &next_pending) > 0) {
+    if (boundary_at(next) || confirmed_length(next, at_end, depth - 1, &next_pending) > 0) {
       return len;
     }
   }
@@ -156,7 +167,7 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, bool* pendi
   return 0;
 }
 
-std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, bool allow_generic,
+std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_depth,
                                      bool* pending) const {
   const std::size_t avail = buffered() - pos;
   if (avail < kMinAdu) {
@@ -182,9 +193,9 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, bool allow_ge
         if (!at_end) *pending = true;
         break;
       case ShapeStatus::kUnpredictable:
-        if (allow_generic && !tried_generic) {
+        if (generic_depth > 0 && !tried_generic) {
           tried_generic = true;
-          const std::size_t len = generic_crc_length(pos, at_end, pending);
+          const std::size_t len = generic_crc_length(pos, at_end, generic_depth, pending);
           if (len > 0) return len;
         }
         break;
@@ -193,9 +204,9 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, bool allow_ge
   }
   // A frame whose byte count lies (e.g. a vendor's FC10 with 13 data bytes under a count
   // of 12) fits no length rule, yet its CRC holds up to a silence or to the next frame.
-  if (allow_generic && !tried_generic && !*pending) {
+  if (generic_depth > 0 && !tried_generic && !*pending) {
     bool ignored = false;
-    return generic_crc_length(pos, at_end, &ignored);
+    return generic_crc_length(pos, at_end, generic_depth, &ignored);
   }
   return 0;
 }
@@ -205,7 +216,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   const bool forced = at_end || n >= kMaxPending;
 
   bool head_pending = false;
-  const std::size_t head_len = confirmed_length(0, at_end, true, &head_pending);
+  const std::size_t head_len = confirmed_length(0, at_end, kGenericDepth, &head_pending);
   if (head_len > 0) {
     emit_frame(head_len);
     return Verdict::kEmitted;
@@ -217,7 +228,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
     for (std::size_t p = 1; p < n; ++p) {
       if (!boundary_at(p)) continue;
       bool pending = false;
-      if (confirmed_length(p, at_end, true, &pending) > 0) {
+      if (confirmed_length(p, at_end, kGenericDepth, &pending) > 0) {
         classify_span(p);
         return Verdict::kEmitted;
       }
@@ -229,7 +240,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   std::size_t first_pending = 0;
   for (std::size_t p = std::max<std::size_t>(1, scan_resume_); p < n; ++p) {
     bool pending = false;
-    if (confirmed_length(p, at_end, true, &pending) > 0) {
+    if (confirmed_length(p, at_end, kGenericDepth, &pending) > 0) {
       scan_resume_ = 1;
       classify_span(p);
       return Verdict::kEmitted;
@@ -260,7 +271,19 @@ Framer::Verdict Framer::decide_head(bool at_end) {
 // Bytes [0, length) precede a confirmed frame, a silence, or the end: a damaged frame
 // when they start like one the bus has seen (known slave and function), else noise.
 void Framer::classify_span(std::size_t length) {
-  if (length >= kMinAdu && plausible_start(0)) {
+  // A fragment of the awaited answer is a truncated frame even when very short.
+  const std::size_t min_frame = awaited_response_at(0) ? 3 : kMinAdu;
+  if (length >= min_frame && plausible_start(0)) {
+    // A CRC-valid prefix is a whole frame (one with no length rule, e.g. FC08/00), and
+    // what follows it is the next record.
+    std::uint16_t crc = kCrcInit;
+    for (std::size_t len = 1; len < length && len <= kMaxAdu; ++len) {
+      crc = crc16_update(crc, byte_at(len - 1));
+      if (len >= kMinAdu && crc == 0) {
+        emit_frame(len);
+        return;
+      }
+    }
     const std::size_t predicted = predicted_length(0);
     if (predicted >= kMinAdu && predicted < length) {
       emit_frame(predicted);  // a frame with a bad CRC, then more bytes

@@ -71,12 +71,15 @@ class Framer {
 
   // Length of a CRC-confirmed frame starting at `pos` (0 if none can be confirmed with
   // the bytes buffered now). `pending` is set when a predicted length needs more bytes.
-  std::size_t confirmed_length(std::size_t pos, bool at_end, bool allow_generic,
+  // `generic_depth` > 0 also accepts frames with no length rule, confirmed by their CRC and
+  // by what follows them (a silence, or a further confirmed frame, up to that depth).
+  std::size_t confirmed_length(std::size_t pos, bool at_end, int generic_depth,
                                bool* pending) const;
-  std::size_t generic_crc_length(std::size_t pos, bool at_end, bool* pending) const;
+  std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
   bool plausible_start(std::size_t pos) const;
+  bool awaited_response_at(std::size_t pos) const;
   std::size_t predicted_length(std::size_t pos) const;
 
   void emit_frame(std::size_t length);

@@ -209,3 +209,56 @@ TEST(Framer, EveryByteEndsUpInExactlyOneRecordWhateverTheInput) {
 
 }  // namespace
 }  // namespace rtu
+
+namespace rtu {
+namespace {
+
+TEST(FramerResync, VendorFunctionsPolledBackToBackThroughUsbStillFrame) {
+  const auto vendor_request = with_crc({0x11, 0x41, 0xEB, 0x61});
+  const auto vendor_answer = with_crc({0x11, 0x41, 0x0E, 0x0A, 0x51});
+  BusBuilder bus;
+  bus.add(vendor_request, 0).add(vendor_answer, 2 * kMs).add(kReadRequest, 3 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(bytes_of(records[0]), vendor_request);
+  EXPECT_EQ(bytes_of(records[1]), vendor_answer);
+}
+
+TEST(FramerResync, DiagnosticEchoWithTruncatedAnswerSplitsAtTheCrcValidPrefix) {
+  const auto echo = with_crc({0x11, 0x08, 0x00, 0x00, 0x5D, 0x28, 0xEB, 0x34, 0x59, 0x43});
+  const std::vector<std::uint8_t> truncated(echo.begin(), echo.begin() + 8);
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add(kReadResponse, 2 * kMs);  // slave 1 is known to the bus
+  bus.add(with_crc({0x11, 0x03, 0x00, 0x00, 0x00, 0x01}), 3 * kMs)
+      .add(with_crc({0x11, 0x03, 0x02, 0x00, 0x07}), 2 * kMs);  // so is slave 0x11
+  bus.add(echo, 3 * kMs).add(truncated, 2 * kMs).add(kReadRequest, 3 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 7U);
+  EXPECT_EQ(bytes_of(records[4]), echo);
+  EXPECT_TRUE(records[4].crc_ok);
+  EXPECT_EQ(bytes_of(records[5]), truncated);
+  EXPECT_FALSE(records[5].crc_ok);
+  EXPECT_EQ(bytes_of(records[6]), kReadRequest);
+}
+
+TEST(FramerResync, UnaskedResponseShapedBytesWithBadCrcAreNoise) {
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add(kReadResponse, 10 * kMs);
+  bus.add({0x01, 0x87, 0x32, 0x3A, 0x6A}, 20 * kMs).add(kReadRequest, 20 * kMs);
+  const auto records = run(bus.per_byte(), bus.line(), kNanosPerMicro);
+  ASSERT_EQ(records.size(), 4U);
+  EXPECT_EQ(records[2].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[3]), kReadRequest);
+}
+
+TEST(FramerResync, ThreeByteFragmentOfTheAwaitedAnswerIsATruncatedFrame) {
+  BusBuilder bus;
+  bus.add(kReadRequest, 0).add({0x01, 0x03, 0x06}, 10 * kMs).add(kReadRequest, 30 * kMs);
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(records[1].kind, RecordKind::kFrame);
+  EXPECT_TRUE(records[1].issues.has(IssueId::kTruncated));
+}
+
+}  // namespace
+}  // namespace rtu

@@ -20,7 +20,7 @@ if [ -z "$build_dir" ]; then
   echo "update-golden: no build directory; configure one first (cmake --preset asan)" >&2
   exit 2
 fi
-cmake --build "$build_dir" --target rtuscope >/dev/null
+cmake --build "$build_dir" --target rtuscope
 rtuscope=$build_dir/rtuscope
 
 update() {  # capture format expected

@@ -1,6 +1,7 @@
 #include "pairing/transaction_tracker.hpp"
 
 #include "modbus/function_codes.hpp"
+#include "modbus/pdu.hpp"
 
 namespace rtu {
 namespace {
@@ -44,12 +45,17 @@ void TransactionTracker::on_record(Record& record) {
   switch (record.role) {
     case Role::kRequest: handle_request(record); break;
     case Role::kResponse: handle_response(record); break;
-    case Role::kUnknown: emit(record); break;
+    case Role::kUnknown:
+      if (record.crc_ok) record.issues.merge(check_pdu(decode_pdu(record, Role::kUnknown)));
+      emit(record);
+      break;
   }
 }
 
 void TransactionTracker::handle_request(Record& frame) {
   if (has_open_) close_open(!answered_);
+  // Content checks only where the CRC vouches for the content.
+  if (frame.crc_ok) frame.issues.merge(check_pdu(decode_pdu(frame, Role::kRequest)));
   if (expects_no_response(frame)) {
     frame.txn = next_txn_++;
     emit(frame);
@@ -65,6 +71,7 @@ void TransactionTracker::handle_request(Record& frame) {
 void TransactionTracker::handle_response(Record& frame) {
   if (!awaiting_answer()) {
     frame.issues.add(IssueId::kUnsolicited);
+    if (frame.crc_ok) frame.issues.merge(check_pdu(decode_pdu(frame, Role::kResponse)));
     emit(frame);
     return;
   }
@@ -85,6 +92,10 @@ void TransactionTracker::handle_response(Record& frame) {
     release_held();
   }
   frame.request = &open_;
+  if (frame.crc_ok) {
+    frame.issues.merge(check_pdu(decode_pdu(frame, Role::kResponse)));
+    if (open_.crc_ok) frame.issues.merge(check_response_fits(open_, frame));
+  }
   out_.on_record(frame);
   frame.request = nullptr;
 }

@@ -2,6 +2,7 @@
 
 #include "core/time_format.hpp"
 #include "modbus/function_codes.hpp"
+#include "modbus/pdu.hpp"
 #include "report/frame_text.hpp"
 #include "report/json_writer.hpp"
 #include "report/timing_note.hpp"
@@ -102,7 +103,10 @@ void JsonlWriter::on_record(Record& record) {
     }
   }
   write_issues(json, record.issues);
-  if (is_frame && annotator_ != nullptr) annotator_->write_json(json, record);
+  if (is_frame) {
+    write_pdu_json(json, decode_pdu(record, record.role));
+    if (annotator_ != nullptr) annotator_->write_json(json, record);
+  }
   json.end_object();
   buffer_.push_back('\n');
   out_.write(buffer_);

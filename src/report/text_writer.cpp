@@ -4,6 +4,7 @@
 
 #include "core/time_format.hpp"
 #include "modbus/function_codes.hpp"
+#include "modbus/pdu.hpp"
 #include "report/frame_text.hpp"
 #include "report/timing_note.hpp"
 
@@ -27,7 +28,20 @@ void pad_to(fmt::memory_buffer& out, std::size_t line_start, std::size_t column)
 }  // namespace
 
 void append_frame_summary(fmt::memory_buffer& out, const Record& frame) {
-  append_hex_preview(out, frame.bytes());
+  if (frame.role == Role::kUnknown && !frame.is_exception()) {
+    append_hex_preview(out, frame.bytes());  // nothing to say what its fields mean
+    return;
+  }
+  // The function already has its own column: leave out the summary's leading name.
+  fmt::memory_buffer summary;
+  append_pdu_summary(summary, decode_pdu(frame, frame.role));
+  std::string_view text(summary.data(), summary.size());
+  const std::string_view name = function_short_name(frame.function());
+  if (text.size() > name.size() && text.substr(0, name.size()) == name &&
+      text[name.size()] == ' ') {
+    text.remove_prefix(name.size() + 1);
+  }
+  out.append(text);
 }
 
 TextWriter::TextWriter(OutputStream& out, FrameAnnotator* annotator, bool flush_each)
@@ -70,12 +84,12 @@ void TextWriter::on_record(Record& record) {
   } else {
     fmt::format_to(it, "  {:<4} {:>5}  {:<16} ", role_short_name(record.role), record.slave(),
                    function_short_name(record.function()));
-    if (record.is_exception() && record.size >= 3) {
-      const std::uint8_t code = record.storage[2];
-      std::string_view name =
-          annotator_ != nullptr ? annotator_->exception_name(record, code) : std::string_view{};
-      if (name.empty()) name = exception_name(code);
-      fmt::format_to(it, "exception {:02X} {}", code, name);
+    const std::string_view vendor_exception =
+        annotator_ != nullptr && record.is_exception() && record.size >= 3
+            ? annotator_->exception_name(record, record.storage[2])
+            : std::string_view{};
+    if (!vendor_exception.empty()) {
+      fmt::format_to(it, "exception {:02X} {}", record.storage[2], vendor_exception);
     } else {
       append_frame_summary(buffer_, record);
     }

@@ -1,0 +1,79 @@
+#include "dissect/device_map.hpp"
+
+#include <algorithm>
+
+namespace rtu::dissect {
+
+std::uint32_t Point::value_bytes() const {
+  switch (type) {
+    case PointType::kU8:
+    case PointType::kI8: return 1;
+    case PointType::kU16:
+    case PointType::kI16: return 2;
+    case PointType::kU32:
+    case PointType::kI32:
+    case PointType::kF32: return 4;
+    case PointType::kBit: return 0;
+  }
+  return 0;
+}
+
+std::uint32_t Point::value_units(Addressing addressing) const {
+  if (type == PointType::kBit) return 1;
+  if (addressing == Addressing::kByte) return value_bytes();
+  return (value_bytes() + 1) / 2;
+}
+
+std::uint32_t Point::units(Addressing addressing) const {
+  const std::uint32_t spare_units = addressing == Addressing::kByte ? 2U * spare : spare;
+  return value_units(addressing) + spare_units;
+}
+
+bool Space::serves(std::uint8_t function) const {
+  return std::find(functions.begin(), functions.end(), function) != functions.end();
+}
+
+const Point* Space::point_at(std::uint32_t addr) const {
+  // Points are sorted and disjoint: the candidate is the last one starting at or before addr.
+  auto it = std::upper_bound(points.begin(), points.end(), addr,
+                             [](std::uint32_t a, const Point& p) { return a < p.addr; });
+  if (it == points.begin()) return nullptr;
+  --it;
+  return addr < it->addr + it->units(addressing) ? &*it : nullptr;
+}
+
+const Point* Space::point_from(std::uint32_t addr) const {
+  auto it = std::lower_bound(points.begin(), points.end(), addr,
+                             [](const Point& p, std::uint32_t a) { return p.addr < a; });
+  return it == points.end() ? nullptr : &*it;
+}
+
+const Space* DeviceMap::space_for(std::uint8_t function) const {
+  for (const auto& space : spaces) {
+    if (space.serves(function)) return &space;
+  }
+  return nullptr;
+}
+
+std::string_view DeviceMap::exception_name(std::uint8_t code) const {
+  for (const auto& e : exceptions) {
+    if (e.code == code) return e.name;
+  }
+  return {};
+}
+
+std::string_view point_type_name(PointType type) {
+  switch (type) {
+    case PointType::kU8: return "u8";
+    case PointType::kI8: return "i8";
+    case PointType::kU16: return "u16";
+    case PointType::kI16: return "i16";
+    case PointType::kU32: return "u32";
+    case PointType::kI32: return "i32";
+    case PointType::kF32: return "f32";
+    case PointType::kBit: return "bit";
+  }
+  return "?";
+}
+
+}  // namespace rtu::dissect

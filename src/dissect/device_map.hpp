@@ -1,0 +1,122 @@
+#pragma once
+// A device model's register map, as loaded from a dissectors/*.toml file (map_loader.hpp;
+// the format is documented in dissectors/README.md). Plain data: no TOML types leak here,
+// so only the loader's translation unit pays for parsing.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rtu::dissect {
+
+// Value types of a point. u8/i8 exist only in byte-addressed register spaces, bit only in
+// coil / discrete-input spaces.
+enum class PointType : std::uint8_t { kU8, kI8, kU16, kI16, kU32, kI32, kF32, kBit };
+
+// Order of the two 16-bit words of a 32-bit value on the wire (bytes inside a word are
+// always big-endian, Modbus Application Protocol §4.2).
+enum class WordOrder : std::uint8_t { kHighFirst, kLowFirst };
+
+enum class Access : std::uint8_t { kReadWrite, kReadOnly, kWriteOnly };
+
+// Registers (FC03/04/06/16) or single bits (FC01/02/05/15).
+enum class SpaceKind : std::uint8_t { kRegisters, kBits };
+
+// kWord: register k of a transfer starting at A has address A + k (the Modbus norm).
+// kByte: the address counts bytes, so register k sits at A + 2k and a one-byte point may
+// sit at an odd address (YW2050).
+enum class Addressing : std::uint8_t { kWord, kByte };
+
+struct BitField {
+  std::uint8_t bit = 0;    // lowest bit of the field, 0 = least significant
+  std::uint8_t width = 1;  // bits
+  std::string name;
+  std::string doc;
+};
+
+struct EnumEntry {
+  std::int64_t value = 0;
+  std::string text;
+};
+
+struct Point {
+  std::string name;
+  std::uint32_t addr = 0;  // in the space's addressing unit
+  PointType type = PointType::kU16;
+  WordOrder word_order = WordOrder::kHighFirst;  // 32-bit types only
+  Access access = Access::kReadWrite;
+  double scale = 1.0;
+  double offset = 0.0;
+  std::string unit;
+  int decimals = 0;                   // digits shown after the point
+  std::vector<std::size_t> scale_by;  // indices into DeviceMap::vars, multiplied in
+  std::optional<std::size_t> learn;   // index into DeviceMap::vars this point sets
+  std::vector<EnumEntry> enums;
+  std::vector<BitField> bits;
+  std::optional<double> min;  // documented range of raw × scale + offset
+  std::optional<double> max;
+  // Registers that follow the point, travel with it, and carry no documented meaning
+  // (TH900 "type 3" points): shown raw, flagged when not zero.
+  std::uint16_t spare = 0;
+  std::string doc;
+  std::uint32_t line = 0;  // where it was defined, for messages
+
+  [[nodiscard]] bool is_signed() const {
+    return type == PointType::kI8 || type == PointType::kI16 || type == PointType::kI32;
+  }
+  // Bytes of the value itself (a bit point: 0).
+  [[nodiscard]] std::uint32_t value_bytes() const;
+  // Address units the value occupies, spare registers excluded.
+  [[nodiscard]] std::uint32_t value_units(Addressing addressing) const;
+  // Address units including the spare registers.
+  [[nodiscard]] std::uint32_t units(Addressing addressing) const;
+};
+
+struct Space {
+  std::string id;
+  SpaceKind kind = SpaceKind::kRegisters;
+  Addressing addressing = Addressing::kWord;
+  std::vector<std::uint8_t> functions;
+  std::vector<Point> points;  // sorted by address, not overlapping
+  std::string doc;
+
+  [[nodiscard]] bool serves(std::uint8_t function) const;
+  // The point whose extent (spare included) contains `addr`, or null.
+  [[nodiscard]] const Point* point_at(std::uint32_t addr) const;
+  // The first point that starts at or after `addr`, or null.
+  [[nodiscard]] const Point* point_from(std::uint32_t addr) const;
+};
+
+// A value learned from the traffic (e.g. a PT ratio) that other points scale by.
+struct Var {
+  std::string name;
+  std::optional<double> default_value;  // the manual's factory default, if any
+  std::string doc;
+};
+
+struct VendorException {
+  std::uint8_t code = 0;
+  std::string name;
+};
+
+struct DeviceMap {
+  std::string model;  // key used by --device ADDR=MODEL
+  std::string name;
+  std::string vendor;
+  std::string manual;
+  std::string doc;
+  std::string source_file;
+  std::vector<Space> spaces;
+  std::vector<Var> vars;
+  std::vector<VendorException> exceptions;  // replace the standard meanings when present
+
+  // The space a function code addresses, or null when the map does not list it.
+  [[nodiscard]] const Space* space_for(std::uint8_t function) const;
+  // The vendor's name for an exception code, or empty.
+  [[nodiscard]] std::string_view exception_name(std::uint8_t code) const;
+};
+
+std::string_view point_type_name(PointType type);
+
+}  // namespace rtu::dissect

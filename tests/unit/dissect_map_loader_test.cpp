@@ -1,0 +1,257 @@
+// The device-map loader: the bundled maps load, and each kind of mistake in a map is
+// reported as "file:line: what is wrong".
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "dissect/map_library.hpp"
+#include "dissect/map_loader.hpp"
+
+namespace rtu::dissect {
+namespace {
+
+// A valid map; each test appends or changes one thing. Line numbers matter below.
+constexpr const char* kBase = R"([device]
+model = "bad"
+name = "test device"
+
+[var.PT]
+default = 1
+
+[space.regs]
+functions = [3, 6, 16]
+
+[[space.regs.point]]
+addr = 0x0000
+name = "PT"
+type = "u32"
+learn = "PT"
+)";
+// kBase has 15 lines; the first appended line is line 16.
+
+std::vector<std::string> errors_of(const std::string& text) {
+  return load_map_text(text, "bad.toml").errors;
+}
+
+TEST(MapLoader, BaseMapLoads) {
+  const auto r = load_map_text(kBase, "bad.toml");
+  ASSERT_TRUE(r.ok()) << r.errors.front();
+  ASSERT_EQ(r.map.spaces.size(), 1U);
+  EXPECT_EQ(r.map.spaces[0].points[0].learn, std::optional<std::size_t>(0));
+}
+
+TEST(MapLoader, BundledMapsLoad) {
+  MapLibrary lib;
+  const auto errors = lib.load_dir(RTUSCOPE_SOURCE_DIR "/dissectors");
+  for (const auto& e : errors) ADD_FAILURE() << e;
+  EXPECT_EQ(lib.model_list(), "th900, yakotec, yw2050, yw2300");
+}
+
+TEST(MapLoader, UnknownKey) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "Ua"
+scal = 0.01
+)");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0],
+            "bad.toml:20: unknown key 'scal' in point 'Ua' (allowed: addr, name, type, "
+            "word_order, access, scale, offset, unit, decimals, scale_by, learn, enum, bits, "
+            "range, spare, doc)");
+}
+
+TEST(MapLoader, UnknownTopLevelTable) {
+  const auto e = errors_of(std::string(kBase) + "\n[points]\nx = 1\n");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0],
+            "bad.toml:17: unknown key 'points' in the top level (allowed: device, space, "
+            "var, exceptions)");
+}
+
+TEST(MapLoader, OverlappingPoints) {
+  // PT is 32 bits at 0x0000-0x0001: a point at 0x0001 overlaps it.
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0001
+name = "Ua"
+)");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0],
+            "bad.toml:17: point 'Ua' at 0x0001 overlaps point 'PT' (0x0000..0x0001, "
+            "line 11)");
+}
+
+TEST(MapLoader, SpareRegistersCountInOverlaps) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "SV"
+spare = 1
+
+[[space.regs.point]]
+addr = 0x0003
+name = "SV1"
+)");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0],
+            "bad.toml:22: point 'SV1' at 0x0003 overlaps point 'SV' (0x0002..0x0003, "
+            "line 17)");
+}
+
+TEST(MapLoader, DanglingScaleByReference) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "Ia"
+scale_by = ["CT"]
+)");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0], "bad.toml:20: point 'Ia': scale_by refers to 'CT', which no [var.CT] declares");
+}
+
+TEST(MapLoader, DanglingLearnReference) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "CT"
+learn = "CT"
+)");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0], "bad.toml:20: point 'CT': learn refers to 'CT', which no [var.CT] declares");
+}
+
+TEST(MapLoader, VarNeverLearned) {
+  const auto e = errors_of(std::string(kBase) + "\n[var.CT]\ndefault = 1\n");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0], "bad.toml:17: [var.CT] is never learned: no point has learn = \"CT\"");
+}
+
+TEST(MapLoader, BadValues) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x10000
+name = "A"
+
+[[space.regs.point]]
+addr = 0x0010
+name = "B"
+type = "u17"
+
+[[space.regs.point]]
+addr = 0x0011
+name = "C"
+range = [5, 1]
+
+[[space.regs.point]]
+addr = 0x0012
+name = "D"
+word_order = "lo_hi"
+
+[[space.regs.point]]
+addr = 0x0013
+name = "E"
+type = "u8"
+
+[[space.regs.point]]
+addr = 0x0014
+name = "F"
+scale = 0
+)");
+  const std::vector<std::string> expected = {
+      "bad.toml:18: point 'A': 'addr' = 65536 is outside 0..65535",
+      "bad.toml:24: point 'B': type 'u17' is not one of: u8, i8, u16, i16, u32, i32, f32, bit",
+      "bad.toml:29: point 'C': range must be [min, max] with min <= max",
+      "bad.toml:34: point 'D': word_order applies to 32-bit types only",
+      "bad.toml:39: point 'E': type 'u8' needs a byte-addressed space (addressing = \"byte\")",
+      "bad.toml:44: point 'F': scale must not be 0",
+  };
+  EXPECT_EQ(e, expected);
+}
+
+TEST(MapLoader, FunctionInTwoSpacesAndMixedKinds) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[space.more]
+functions = [3]
+
+[space.mixed]
+functions = [1, 4]
+)");
+  const std::vector<std::string> expected = {
+      "bad.toml:18: [space.more]: function 3 already addresses another space",
+      "bad.toml:21: [space.mixed]: functions mix bit (1, 2, 5, 15) and register (3, 4, 6, 16) "
+      "codes",
+  };
+  EXPECT_EQ(e, expected);
+}
+
+TEST(MapLoader, BitFieldsMustFitAndNotOverlap) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "CTRL"
+bits = [
+  { bit = 0, name = "dir" },
+  { bit = 0, name = "again" },
+  { bit = 15, width = 2, name = "wide" },
+]
+)");
+  const std::vector<std::string> expected = {
+      "bad.toml:22: point 'CTRL': bits entry: bit 0 overlaps field 'dir'",
+      "bad.toml:23: point 'CTRL': bits entry: bits 15..16 do not fit a 16-bit value",
+  };
+  EXPECT_EQ(e, expected);
+}
+
+TEST(MapLoader, MissingDeviceAndSpaces) {
+  const auto e = errors_of("[var.PT]\ndefault = 1\n");
+  const std::vector<std::string> expected = {
+      "bad.toml:1: missing table [device]",
+      "bad.toml:1: missing [space.<id>] tables: a map needs at least one address space",
+      "bad.toml:1: [var.PT] is never learned: no point has learn = \"PT\"",
+  };
+  EXPECT_EQ(e, expected);
+}
+
+TEST(MapLoader, TomlSyntaxErrorHasItsLine) {
+  const auto e = errors_of("[device]\nmodel = \"x\"\nname = \n");
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_TRUE(e[0].starts_with("bad.toml:3: ")) << e[0];
+}
+
+TEST(MapLoader, ModelMustMatchFileName) {
+  const std::string path = ::testing::TempDir() + "/other.toml";
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs(kBase, f);
+    std::fclose(f);
+  }
+  const auto r = load_map_file(path);
+  ASSERT_EQ(r.errors.size(), 1U);
+  EXPECT_EQ(r.errors[0], path + ":1: [device] model 'bad' differs from the file name 'other.toml'");
+}
+
+TEST(BusFile, ReadsLineAndSlaves) {
+  const auto bus = load_bus_text(
+      "[line]\nbaud = 19200\nparity = \"N\"\nstop = 2\n\n[slaves]\n1 = \"yw2050\"\n7 = \"th900\"\n",
+      "plant.toml");
+  EXPECT_EQ(bus.baud, std::optional<std::uint32_t>(19200));
+  EXPECT_EQ(bus.parity, std::optional<Parity>(Parity::kNone));
+  EXPECT_EQ(bus.stop_bits, std::optional<std::uint8_t>(2));
+  ASSERT_EQ(bus.slaves.size(), 2U);
+  EXPECT_EQ(bus.slaves[1].slave, 7);
+  EXPECT_EQ(bus.slaves[1].model, "th900");
+}
+
+TEST(BusFile, BadSlaveAddressSaysWhere) {
+  try {
+    load_bus_text("[slaves]\n1 = \"yw2050\"\n300 = \"th900\"\n", "plant.toml");
+    FAIL() << "expected an InputError";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(), "plant.toml:3: [slaves]: '300' is not a slave address 1..247");
+  }
+}
+
+}  // namespace
+}  // namespace rtu::dissect

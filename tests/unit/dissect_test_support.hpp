@@ -1,0 +1,140 @@
+#pragma once
+// Helpers for the device-dissector tests: frames from hex, a library of the bundled maps,
+// and a request/response runner through the DeviceAnnotator.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/crc16.hpp"
+#include "dissect/device_annotator.hpp"
+#include "dissect/map_library.hpp"
+#include "framing/record.hpp"
+
+namespace rtu::dissect::testing {
+
+inline std::vector<std::uint8_t> parse_hex(std::string_view hex) {
+  std::vector<std::uint8_t> out;
+  int hi = -1;
+  for (const char c : hex) {
+    int v = -1;
+    if (c >= '0' && c <= '9') v = c - '0';
+    if (c >= 'a' && c <= 'f') v = c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') v = c - 'A' + 10;
+    if (v < 0) continue;
+    if (hi < 0) {
+      hi = v;
+    } else {
+      out.push_back(static_cast<std::uint8_t>(hi * 16 + v));
+      hi = -1;
+    }
+  }
+  return out;
+}
+
+// A frame from its full hex (CRC included, as the manuals print them).
+inline Record frame(std::string_view hex, Role role, std::uint64_t seq) {
+  const auto bytes = parse_hex(hex);
+  if (bytes.size() > kMaxAdu) throw std::invalid_argument("frame too long");
+  Record r;
+  r.seq = seq;
+  r.size = static_cast<std::uint16_t>(bytes.size());
+  std::copy(bytes.begin(), bytes.end(), r.storage.begin());
+  r.crc_ok = crc16_valid(r.bytes());
+  r.role = role;
+  return r;
+}
+
+// A frame from hex without CRC: the CRC is appended (for frames made up by a test).
+inline Record made_frame(std::string_view hex, Role role, std::uint64_t seq) {
+  auto bytes = parse_hex(hex);
+  const std::uint16_t crc = crc16(bytes);
+  bytes.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  bytes.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  std::string full;
+  for (const auto b : bytes) full += fmt::format("{:02x}", b);
+  return frame(full, role, seq);
+}
+
+inline const MapLibrary& bundled_maps() {
+  static const MapLibrary lib = [] {
+    MapLibrary l;
+    const auto errors = l.load_dir(RTUSCOPE_SOURCE_DIR "/dissectors");
+    for (const auto& e : errors) ADD_FAILURE() << e;
+    return l;
+  }();
+  return lib;
+}
+
+inline const DecodedPoint* find_point(const Decoded& d, std::string_view name) {
+  for (const auto& p : d.points) {
+    if (p.point != nullptr && p.spare_index == 0 && p.point->name == name) return &p;
+  }
+  return nullptr;
+}
+
+// Drives one slave of one model through request/response pairs.
+class Bus {
+ public:
+  explicit Bus(std::string_view model, std::uint8_t slave = 1) {
+    const DeviceMap* map = bundled_maps().find(model);
+    if (map == nullptr) throw std::invalid_argument("no bundled map " + std::string(model));
+    annotator_.assign(slave, *map);
+  }
+
+  // Annotates a request; returns what it decoded (a copy, so it outlives the next frame).
+  Decoded request(const Record& req) {
+    last_request_ = req;
+    annotator_.annotate(last_request_);
+    issues_ = last_request_.issues;
+    return copy(last_request_);
+  }
+  // Annotates a response to the last request.
+  Decoded response(Record resp) {
+    resp.request = &last_request_;
+    annotator_.annotate(resp);
+    issues_ = resp.issues;
+    text_.clear();
+    annotator_.append_text(text_, resp);
+    json_.clear();
+    JsonWriter json(json_);
+    json.begin_object();
+    annotator_.write_json(json, resp);
+    json.end_object();
+    return copy(resp);
+  }
+  Decoded exchange(std::string_view req_hex, std::string_view resp_hex) {
+    request(frame(req_hex, Role::kRequest, seq_++));
+    return response(frame(resp_hex, Role::kResponse, seq_++));
+  }
+  Decoded request_hex(std::string_view hex) { return request(frame(hex, Role::kRequest, seq_++)); }
+
+  [[nodiscard]] const IssueSet& issues() const { return issues_; }
+  [[nodiscard]] const Record& last_request() const { return last_request_; }
+  [[nodiscard]] std::string text() const { return fmt::to_string(text_); }
+  [[nodiscard]] std::string json() const { return fmt::to_string(json_); }
+  [[nodiscard]] std::string text_of(const Record& r) const {
+    fmt::memory_buffer out;
+    annotator_.append_text(out, r);
+    return fmt::to_string(out);
+  }
+  DeviceAnnotator& annotator() { return annotator_; }
+  std::uint64_t next_seq() { return seq_++; }
+
+ private:
+  Decoded copy(const Record& r) const {
+    const Decoded* d = annotator_.decoded(r);
+    return d == nullptr ? Decoded{} : *d;
+  }
+  DeviceAnnotator annotator_;
+  Record last_request_;
+  IssueSet issues_;
+  fmt::memory_buffer text_;
+  fmt::memory_buffer json_;
+  std::uint64_t seq_ = 0;
+};
+
+}  // namespace rtu::dissect::testing

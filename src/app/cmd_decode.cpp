@@ -3,6 +3,7 @@
 #include <string>
 
 #include "app/command.hpp"
+#include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "pipeline/replay.hpp"
 #include "report/jsonl_writer.hpp"
@@ -17,6 +18,7 @@ struct DecodeArgs {
   std::string format = "text";
   std::string output = "-";
   LineOptions line;
+  DeviceOptions devices;
 };
 
 void setup_decode(CLI::App& app, int& exit_code) {
@@ -28,14 +30,17 @@ void setup_decode(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"text", "jsonl"}));
   cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
   args->line.add_to(*cmd);
+  args->devices.add_to(*cmd);
   cmd->callback([args, &exit_code] {
-    const ReplayOptions options = args->line.to_replay_options();
+    ReplayOptions options = args->line.to_replay_options();
+    const auto devices = args->devices.build(options);
+    FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
     OutputStream out(args->output);
     std::unique_ptr<RecordSink> writer;
     if (args->format == "jsonl") {
-      writer = std::make_unique<JsonlWriter>(out);
+      writer = std::make_unique<JsonlWriter>(out, annotator);
     } else {
-      writer = std::make_unique<TextWriter>(out);
+      writer = std::make_unique<TextWriter>(out, annotator);
     }
     replay_capture(args->file, options, *writer);
     exit_code = 0;

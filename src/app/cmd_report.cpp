@@ -1,0 +1,68 @@
+// rtuscope report FILE [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
+// diagnostics and ranked findings for a whole capture, in bounded memory.
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/command.hpp"
+#include "app/line_options.hpp"
+#include "pipeline/replay.hpp"
+#include "report/findings.hpp"
+#include "report/output_stream.hpp"
+#include "report/point_csv_writer.hpp"
+#include "report/raw_register_source.hpp"
+#include "report/report_writers.hpp"
+#include "report/traffic_stats.hpp"
+
+namespace rtu::app {
+namespace {
+
+struct ReportArgs {
+  std::string file;
+  std::string format = "text";
+  std::string output = "-";
+  std::string csv;
+  LineOptions line;
+};
+
+void setup_report(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<ReportArgs>();
+  auto* cmd = app.add_subcommand(
+      "report", "Statistics, timing diagnostics and likely causes of problems for a capture");
+  cmd->add_option("file", args->file, "Capture: text hex (.hex/.txt), Saleae CSV, pcap/pcapng")
+      ->required();
+  cmd->add_option("--format", args->format, "Report format")
+      ->check(CLI::IsMember({"text", "json", "html"}));
+  cmd->add_option("-o,--output", args->output, "Report file (default: standard output)");
+  cmd->add_option("--csv", args->csv,
+                  "Also write register values over time as CSV (time,slave,point,value,unit)");
+  args->line.add_to(*cmd);
+  cmd->callback([args, &exit_code] {
+    const ReplayOptions options = args->line.to_replay_options();
+    RawRegisterSource raw;
+    std::optional<OutputStream> csv_out;
+    std::optional<PointCsvWriter> csv;
+    if (!args->csv.empty()) {
+      csv_out.emplace(args->csv);
+      csv.emplace(*csv_out);
+    }
+    TrafficStats stats(&raw, csv ? &*csv : nullptr);
+    replay_capture(args->file, options, stats);
+    if (csv) csv->flush();
+    const std::vector<Finding> findings = find_problems(stats);
+    OutputStream out(args->output);
+    if (args->format == "json") {
+      write_report_json(out, stats, findings);
+    } else if (args->format == "html") {
+      write_report_html(out, stats, findings);
+    } else {
+      write_report_text(out, stats, findings);
+    }
+    exit_code = 0;
+  });
+}
+
+RTUSCOPE_REGISTER_COMMAND(setup_report);
+
+}  // namespace
+}  // namespace rtu::app

@@ -1,0 +1,28 @@
+#pragma once
+// CSV export of register values over time, one row per value, for spreadsheets:
+//   time,slave,point,value,unit
+// time in seconds on the input's clock (exact decimal), the point's name quoted when it
+// holds a comma or a quote (RFC 4180). Rows are buffered and written in large blocks.
+#include <fmt/format.h>
+
+#include "report/output_stream.hpp"
+#include "report/point_source.hpp"
+
+namespace rtu {
+
+class PointCsvWriter : public PointSink {
+ public:
+  explicit PointCsvWriter(OutputStream& out);
+  ~PointCsvWriter() override;
+  PointCsvWriter(const PointCsvWriter&) = delete;
+  PointCsvWriter& operator=(const PointCsvWriter&) = delete;
+
+  void on_point(const PointSample& sample) override;
+  void flush();  // writes what is buffered
+
+ private:
+  OutputStream& out_;
+  fmt::memory_buffer buffer_;
+};
+
+}  // namespace rtu

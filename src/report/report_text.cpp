@@ -1,0 +1,108 @@
+#include <fmt/format.h>
+
+#include "modbus/function_codes.hpp"
+#include "report/report_writers.hpp"
+#include "report/timing_note.hpp"
+
+namespace rtu {
+
+namespace {
+
+using Out = fmt::memory_buffer;
+
+template <typename... Args>
+void line(Out& o, fmt::format_string<Args...> f, Args&&... args) {
+  fmt::format_to(std::back_inserter(o), f, std::forward<Args>(args)...);
+  o.push_back('\n');
+}
+
+std::string latency_text(const LogHistogram& h) {
+  if (h.empty()) return "-";
+  return fmt::format("{:.1f}/{:.1f}/{:.1f}/{:.1f}/{:.1f}", to_millis(h.min()),
+                     to_millis(h.quantile(0.5)), to_millis(h.quantile(0.95)),
+                     to_millis(h.quantile(0.99)), to_millis(h.max()));
+}
+
+}  // namespace
+
+void write_report_text(OutputStream& out, const TrafficStats& stats,
+                       const std::vector<Finding>& findings) {
+  Out o;
+  const CaptureInfo& info = stats.capture();
+  const Totals& t = stats.totals();
+  line(o, "rtuscope report: {}", info.source);
+  line(o, "line {}, {}", info.line.describe(), timing_note(info));
+  line(o, "");
+  line(o, "TOTALS");
+  line(o, "  duration          {:.3f} s", to_seconds(t.duration()));
+  line(o, "  frames            {} ({} requests, {} responses, {} broadcasts)", t.frames, t.requests,
+       t.responses, t.broadcasts);
+  line(o, "  bytes             {} ({} noise bytes in {} records)", t.bytes, t.noise_bytes,
+       t.noise_records);
+  line(o, "  bus utilisation   {:.2f}%", t.utilisation() * 100.0);
+  line(o, "  crc errors        {}", t.crc_errors);
+  line(o, "  exceptions        {}", t.exceptions);
+  line(o, "  timeouts          {} ({} late responses)", t.timeouts, t.late);
+  line(o, "  unsolicited       {} ({} from the wrong slave)", t.unsolicited, t.wrong_slave);
+  line(o, "  line errors       {} ({} parity, {} framing, {} break, {} overrun)",
+       t.line_error_records, t.parity_errors, t.framing_errors, t.breaks, t.overruns);
+  line(o, "  timing resolution {:.3f} ms", to_millis(info.timing_resolution));
+  line(o, "");
+
+  line(o, "FINDINGS");
+  if (findings.empty()) line(o, "  none: nothing in this capture points to a problem");
+  for (std::size_t i = 0; i < findings.size(); ++i) {
+    const Finding& f = findings[i];
+    line(o, "  {}. [{}] {}: {}", i + 1, severity_name(f.severity), f.key, f.summary);
+    line(o, "     likely cause: {}", f.cause);
+  }
+  line(o, "");
+
+  line(o, "SLAVES  latency ms = min/p50/p95/p99/max");
+  line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", "slave", "device", "requests",
+       "answers", "exc", "timeouts", "crc", "unsol", "latency ms");
+  for (unsigned a = 1; a < 256; ++a) {
+    const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
+    if (s == nullptr) continue;
+    line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", a,
+         s->device.empty() ? "-" : s->device, s->requests, s->responses, s->exceptions, s->timeouts,
+         s->crc_errors, s->unsolicited, latency_text(s->latency));
+    for (const auto& [code, n] : s->exception_codes) {
+      line(o, "        exception {:02X} {} ×{}", code, exception_name(code), n);
+    }
+  }
+  line(o, "");
+
+  line(o, "POLL PERIODS (per request kind)");
+  line(o, "  {:>5} {:<28} {:>7} {:>7} {:>10} {:>10} {:>10}", "slave", "request", "count", "answers",
+       "period p50", "min", "max");
+  for (const auto& [kind, k] : stats.request_kinds()) {
+    const std::string what =
+        kind.has_range ? fmt::format("{} 0x{:04X} ×{}", function_short_name(kind.function),
+                                     kind.addr, kind.qty)
+                       : std::string(function_short_name(kind.function));
+    if (k.period.empty()) {
+      line(o, "  {:>5} {:<28} {:>7} {:>7} {:>10} {:>10} {:>10}", kind.slave, what, k.count,
+           k.responses, "-", "-", "-");
+    } else {
+      line(o, "  {:>5} {:<28} {:>7} {:>7} {:>8.1f}ms {:>8.1f}ms {:>8.1f}ms", kind.slave, what,
+           k.count, k.responses, to_millis(k.period.quantile(0.5)), to_millis(k.period.min()),
+           to_millis(k.period.max()));
+    }
+  }
+  if (stats.request_kinds_overflow() > 0) {
+    line(o, "  ({} requests of further kinds not tabled)", stats.request_kinds_overflow());
+  }
+  line(o, "");
+
+  line(o, "TIMING");
+  line(o, "  slave turnaround (latency) ms  {}", latency_text(stats.all_latencies()));
+  line(o, "  master turnaround ms           {}", latency_text(stats.master_turnaround()));
+  line(o, "  t1.5 pauses inside frames      {}{}", t.t15_frames,
+       stats.t15_observable() ? "" : " (not observable in this capture)");
+  line(o, "  t3.5 violations                {}{}", t.t35_frames,
+       stats.t35_observable() ? "" : " (not observable in this capture)");
+  out.write(o);
+}
+
+}  // namespace rtu

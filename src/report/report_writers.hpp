@@ -1,0 +1,50 @@
+#pragma once
+// Renderings of a finished TrafficStats and its findings: text for a person, JSON for
+// scripts, HTML for a customer. All three say the same numbers.
+//
+// JSON keys (public; add, never rename):
+//   capture   {source, baud, parity, stop_bits, t1_5_ms, t3_5_ms, timing_resolution_ms,
+//              per_byte_timing, response_timeout_ms, timing_note}
+//   totals    {start, end (seconds, input clock), duration_s, records, frames, requests,
+//              responses, broadcasts, unknown_role, bytes, noise_records, noise_bytes,
+//              bus_utilisation_pct, crc_errors, exceptions, timeouts, late_responses,
+//              unsolicited, wrong_slave, line_errors {records, parity, framing, break,
+//              overrun}, t1_5_pauses, t3_5_violations, timing_resolution_ms, slaves,
+//              request_kinds, request_kinds_overflow, points, points_overflow}
+//   slaves    {"<addr>": {device (null when unknown), requests, responses, exceptions,
+//              exceptions_by_code [{code, name, count}], timeouts, late_responses,
+//              crc_errors, unsolicited, wrong_slave, after_next_request, frames, bytes,
+//              line_errors, latency_ms {min, p50, p95, p99, max, mean} (null when no
+//              answer was timed), latency_samples, function_codes [{fc, name, count}],
+//              poll_periods [{fc, function, addr, qty (null for functions without a
+//              range), count, responses, exceptions, timeouts, period_ms {min, p50, p95,
+//              max} (null below two requests)}], timing {t1_5_pauses_requests,
+//              t1_5_pauses_responses, t3_5_responses_too_soon, t3_5_requests_too_soon,
+//              turnaround_glitches}, timeout_fit [{timeout_ms, lost, lost_pct}]}}
+//   timing    {t1_5_observable, t3_5_observable, t1_5_pauses, t3_5_violations,
+//              slave_turnaround_ms {min, p50, p95, p99, max, mean} | null,
+//              master_turnaround_ms {...} | null, turnaround_glitches
+//              {after_requests, after_responses, bytes_00, bytes_ff}}
+//   findings  [{key, severity, slave (null), summary, cause, evidence {name: number},
+//              units {name: unit}}] ranked, most important first
+//   timeline  {start (s), bucket_s, frames [], requests [], responses [], crc_errors [],
+//              exceptions [], timeouts [], noise_bytes [], line_errors [],
+//              utilisation_pct []} one entry per bucket, up to the capture's end
+//   points    [{slave, point, unit, samples, changes, first, min, max, last}]
+#include <vector>
+
+#include "report/findings.hpp"
+#include "report/output_stream.hpp"
+#include "report/traffic_stats.hpp"
+
+namespace rtu {
+
+void write_report_text(OutputStream& out, const TrafficStats& stats,
+                       const std::vector<Finding>& findings);
+void write_report_json(OutputStream& out, const TrafficStats& stats,
+                       const std::vector<Finding>& findings);
+// One self-contained HTML file: inline CSS and SVG, no scripts, nothing fetched.
+void write_report_html(OutputStream& out, const TrafficStats& stats,
+                       const std::vector<Finding>& findings);
+
+}  // namespace rtu

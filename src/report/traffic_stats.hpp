@@ -1,0 +1,241 @@
+#pragma once
+// The statistics behind `rtuscope report`: a RecordSink that folds a capture of any length
+// into bounded tables. Memory is fixed by the limits below, never by the capture's length:
+//   - per slave: at most 256 addresses (the address is a byte), each with a LogHistogram of
+//     latencies and small fixed counters;
+//   - per request kind (slave, function, start address, quantity): at most kMaxRequestKinds,
+//     further kinds counted in request_kinds_overflow();
+//   - per point (slave, point name): at most kMaxPoints series, further ones counted in
+//     points_overflow();
+//   - over time: kTimelineBuckets buckets (and kPointBuckets per point) that merge pairwise
+//     as the capture grows (TimeBuckets).
+// Findings are computed from these numbers afterwards (findings.hpp).
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "framing/capture_info.hpp"
+#include "framing/record.hpp"
+#include "report/log_histogram.hpp"
+#include "report/point_source.hpp"
+#include "report/time_buckets.hpp"
+
+namespace rtu {
+
+// Master response timeouts tried against each slave's observed latencies ("a timeout of
+// 250 ms would have lost 0.4% of the responses").
+inline constexpr std::array<std::int64_t, 14> kCandidateTimeoutsMs = {
+    50, 100, 150, 200, 250, 300, 400, 500, 750, 1000, 1500, 2000, 3000, 5000};
+
+// Frame-length classes for CRC error rates: < 16, 16-63, 64-127, ≥ 128 bytes.
+inline constexpr std::size_t kLengthClasses = 4;
+std::size_t length_class(std::size_t frame_bytes);
+std::string_view length_class_name(std::size_t cls);  // "<16", "16-63", ...
+
+struct Totals {
+  Nanos first_t = kUnknownTime;  // start of the first record
+  Nanos last_t = kUnknownTime;   // end of the last record
+  std::uint64_t records = 0;
+  std::uint64_t frames = 0;
+  std::uint64_t requests = 0;
+  std::uint64_t responses = 0;
+  std::uint64_t unknown_role = 0;  // frames neither request nor response (e.g. bad CRC)
+  std::uint64_t broadcasts = 0;
+  std::uint64_t bytes = 0;  // every byte on the line, noise included
+  std::uint64_t noise_records = 0;
+  std::uint64_t noise_bytes = 0;
+  std::uint64_t crc_errors = 0;
+  std::uint64_t exceptions = 0;
+  std::uint64_t timeouts = 0;
+  std::uint64_t late = 0;
+  std::uint64_t unsolicited = 0;
+  std::uint64_t wrong_slave = 0;
+  std::uint64_t line_error_records = 0;  // records with any parity/framing/break/overrun
+  std::uint64_t parity_errors = 0;       // records with a parity error (and so on)
+  std::uint64_t framing_errors = 0;
+  std::uint64_t breaks = 0;
+  std::uint64_t overruns = 0;
+  std::uint64_t t15_frames = 0;
+  std::uint64_t t35_frames = 0;
+  double busy_ns = 0.0;  // bytes × character time
+  std::array<std::uint64_t, kLengthClasses> frames_by_length{};
+  std::array<std::uint64_t, kLengthClasses> crc_by_length{};
+  // Line errors "with valid frames in between": CRC-valid frames seen after the first line
+  // error and before the last one.
+  std::uint64_t valid_frames_between_line_errors = 0;
+
+  [[nodiscard]] Nanos duration() const { return first_t == kUnknownTime ? 0 : last_t - first_t; }
+  [[nodiscard]] double utilisation() const;  // 0..1
+};
+
+struct SlaveStats {
+  std::uint64_t requests = 0;   // requests addressed to this slave
+  std::uint64_t responses = 0;  // responses from this slave
+  std::uint64_t exceptions = 0;
+  std::uint64_t timeouts = 0;    // requests to it that got no response in time
+  std::uint64_t late = 0;        // responses after the response timeout
+  std::uint64_t crc_errors = 0;  // frames carrying its address with a bad CRC
+  std::uint64_t unsolicited = 0;
+  std::uint64_t wrong_slave = 0;  // its responses to a request for another slave
+  // Its responses that came after the master had given up and sent the next request.
+  std::uint64_t after_next_request = 0;
+  std::uint64_t frames = 0;
+  std::uint64_t valid_frames = 0;  // CRC ok
+  std::uint64_t bytes = 0;
+  std::map<std::uint8_t, std::uint64_t> exception_codes;
+  std::map<std::uint8_t, std::uint64_t> functions;  // request function codes used
+  LogHistogram latency;
+  std::array<std::uint64_t, kCandidateTimeoutsMs.size()> lost_at{};  // latency > candidate
+  std::uint64_t t15_requests = 0;   // requests to it with a pause > t1.5 inside
+  std::uint64_t t15_responses = 0;  // its responses with a pause > t1.5 inside
+  std::uint64_t t35_responses = 0;  // its responses starting < t3.5 after the request
+  std::uint64_t t35_requests = 0;   // requests to it starting < t3.5 after the previous frame
+  // Single 0x00/0xFF noise bytes right after a request to it (its turnaround).
+  std::uint64_t glitches_after_request = 0;
+  // Records with line errors while its answer was awaited, or carrying its address.
+  std::uint64_t line_errors = 0;
+  std::array<std::uint64_t, kLengthClasses> frames_by_length{};
+  std::array<std::uint64_t, kLengthClasses> crc_by_length{};
+  std::string device;  // model, when a device map knows this slave
+};
+
+struct RequestKind {
+  std::uint8_t slave = 0;
+  std::uint8_t function = 0;
+  bool has_range = false;  // addr/qty meaningful (FC01-06, 15, 16, 23)
+  std::uint16_t addr = 0;
+  std::uint16_t qty = 0;
+  auto operator<=>(const RequestKind&) const = default;
+};
+
+struct RequestKindStats {
+  std::uint64_t count = 0;
+  std::uint64_t responses = 0;
+  std::uint64_t exceptions = 0;
+  std::uint64_t timeouts = 0;
+  std::map<std::uint8_t, std::uint64_t> exception_codes;
+  Nanos first_t = 0;
+  Nanos last_t = 0;
+  LogHistogram period;  // between consecutive requests of this kind
+};
+
+struct TrafficBucket {
+  std::uint64_t frames = 0;
+  std::uint64_t requests = 0;
+  std::uint64_t responses = 0;
+  std::uint64_t crc_errors = 0;
+  std::uint64_t exceptions = 0;
+  std::uint64_t timeouts = 0;
+  std::uint64_t noise_bytes = 0;
+  std::uint64_t line_errors = 0;
+  double busy_ns = 0.0;
+  void merge(const TrafficBucket& o);
+};
+
+struct PointBucket {
+  std::uint64_t count = 0;
+  double min = 0.0;
+  double max = 0.0;
+  double last = 0.0;
+  void add(double v);
+  void merge(const PointBucket& o);
+};
+
+struct PointSeries {
+  std::string unit;
+  std::uint64_t samples = 0;
+  std::uint64_t changes = 0;  // samples whose value differs from the previous one
+  double first = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+  double last = 0.0;
+  TimeBuckets<PointBucket> over_time;
+};
+
+class TrafficStats : public RecordSink, private PointSink {
+ public:
+  static constexpr std::size_t kMaxRequestKinds = 512;
+  static constexpr std::size_t kMaxPoints = 1024;
+  static constexpr std::size_t kTimelineBuckets = 240;
+  static constexpr std::size_t kPointBuckets = 120;
+  static constexpr Nanos kFirstBucketWidth = kNanosPerMilli;
+
+  // `points` (optional, not owned) gives register values and device models; `also` (optional,
+  // not owned) receives every value too (e.g. the CSV export).
+  explicit TrafficStats(PointSource* points = nullptr, PointSink* also = nullptr);
+
+  void on_capture(const CaptureInfo& info) override;
+  void on_record(Record& record) override;
+  void on_finish() override;
+
+  [[nodiscard]] const CaptureInfo& capture() const { return info_; }
+  [[nodiscard]] const Totals& totals() const { return totals_; }
+  // Slaves seen, by address; null for addresses never seen.
+  [[nodiscard]] const SlaveStats* slave(std::uint8_t address) const {
+    return slaves_[address].get();
+  }
+  [[nodiscard]] const std::map<RequestKind, RequestKindStats>& request_kinds() const {
+    return kinds_;
+  }
+  [[nodiscard]] std::uint64_t request_kinds_overflow() const { return kinds_overflow_; }
+  [[nodiscard]] const TimeBuckets<TrafficBucket>& timeline() const { return timeline_; }
+  [[nodiscard]] const std::map<std::pair<std::uint8_t, std::string>, PointSeries>& points() const {
+    return points_;
+  }
+  [[nodiscard]] std::uint64_t points_overflow() const { return points_overflow_; }
+  // Silence from a response's end to the master's next request (where observable).
+  [[nodiscard]] const LogHistogram& master_turnaround() const { return master_turnaround_; }
+  // Latencies of every slave together.
+  [[nodiscard]] LogHistogram all_latencies() const;
+  // Single 0x00/0xFF noise bytes right after a response (the master's turnaround).
+  [[nodiscard]] std::uint64_t glitches_after_response() const { return glitches_after_response_; }
+  [[nodiscard]] std::uint64_t glitch_bytes_00() const { return glitch_00_; }
+  [[nodiscard]] std::uint64_t glitch_bytes_ff() const { return glitch_ff_; }
+  // Line-error records with nobody's answer awaited and no slave address to blame.
+  [[nodiscard]] std::uint64_t line_errors_unattributed() const { return line_errors_unattributed_; }
+
+  // Whether the capture's timestamps can show pauses of t1.5 / t3.5.
+  [[nodiscard]] bool t15_observable() const;
+  [[nodiscard]] bool t35_observable() const;
+
+ private:
+  void on_point(const PointSample& sample) override;
+  SlaveStats& slave_mut(std::uint8_t address);
+  void count_frame(const Record& r);
+  void count_request(const Record& r);
+  void count_response(const Record& r);
+  void count_noise(const Record& r);
+  void count_line_errors(const Record& r);
+
+  PointSource* point_source_;
+  PointSink* also_;
+  CaptureInfo info_;
+  Totals totals_;
+  std::array<std::unique_ptr<SlaveStats>, 256> slaves_{};
+  std::map<RequestKind, RequestKindStats> kinds_;
+  std::uint64_t kinds_overflow_ = 0;
+  TimeBuckets<TrafficBucket> timeline_{0, kFirstBucketWidth, kTimelineBuckets};
+  bool timeline_started_ = false;
+  std::map<std::pair<std::uint8_t, std::string>, PointSeries> points_;
+  std::uint64_t points_overflow_ = 0;
+  std::string point_key_;  // reused lookup key
+  LogHistogram master_turnaround_;
+
+  // What the previous record was, for turnaround and attribution.
+  enum class Previous : std::uint8_t { kNothing, kRequest, kResponse, kOther };
+  Previous previous_ = Previous::kNothing;
+  std::optional<std::uint8_t> awaiting_;         // slave whose answer is expected
+  std::optional<std::uint8_t> timed_out_slave_;  // last request that timed out
+  std::uint64_t glitches_after_response_ = 0;
+  std::uint64_t glitch_00_ = 0;
+  std::uint64_t glitch_ff_ = 0;
+  std::uint64_t line_errors_unattributed_ = 0;
+  std::uint64_t valid_since_line_error_ = 0;
+  bool seen_line_error_ = false;
+};
+
+}  // namespace rtu

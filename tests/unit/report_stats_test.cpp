@@ -1,0 +1,518 @@
+// Statistics behind `rtuscope report`: the quantile sketch against a brute-force reference,
+// time buckets and utilisation arithmetic, poll periods, and each finding triggered by a
+// crafted bus and silent on a clean one.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "bus_builder.hpp"
+#include "pipeline/decode_pipeline.hpp"
+#include "report/findings.hpp"
+#include "report/log_histogram.hpp"
+#include "report/raw_register_source.hpp"
+#include "report/time_buckets.hpp"
+#include "report/traffic_stats.hpp"
+
+namespace rtu {
+namespace {
+
+using test::BusBuilder;
+using test::with_crc;
+
+constexpr Nanos kMs = kNanosPerMilli;
+
+// ---- LogHistogram ---------------------------------------------------------------------
+
+Nanos brute_quantile(std::vector<Nanos> v, double p) {
+  std::sort(v.begin(), v.end());
+  if (p <= 0.0) return v.front();
+  auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size())));
+  rank = std::clamp<std::size_t>(rank, 1, v.size());
+  return v[rank - 1];
+}
+
+void expect_close(Nanos estimate, Nanos truth) {
+  const double tolerance = std::max(static_cast<double>(truth) * LogHistogram::kRelativeError,
+                                    static_cast<double>(LogHistogram::kFloor));
+  EXPECT_LE(std::abs(static_cast<double>(estimate - truth)), tolerance)
+      << "estimate " << estimate << " truth " << truth;
+}
+
+TEST(LogHistogram, QuantilesMatchBruteForceOnRandomData) {
+  std::mt19937_64 rng(12345);
+  std::lognormal_distribution<double> lognormal(std::log(20e6), 0.8);  // ~20 ms latencies
+  std::uniform_int_distribution<Nanos> uniform(0, 2 * kNanosPerSecond);
+  std::exponential_distribution<double> expo(1.0 / 5e5);
+  for (int dist = 0; dist < 3; ++dist) {
+    for (const std::size_t n : {1UL, 2UL, 7UL, 100UL, 5000UL}) {
+      std::vector<Nanos> values;
+      LogHistogram h;
+      for (std::size_t i = 0; i < n; ++i) {
+        Nanos v = 0;
+        if (dist == 0) v = static_cast<Nanos>(lognormal(rng));
+        if (dist == 1) v = uniform(rng);
+        if (dist == 2) v = static_cast<Nanos>(expo(rng));
+        values.push_back(v);
+        h.add(v);
+      }
+      ASSERT_EQ(h.count(), n);
+      EXPECT_EQ(h.min(), *std::min_element(values.begin(), values.end()));
+      EXPECT_EQ(h.max(), *std::max_element(values.begin(), values.end()));
+      for (const double p : {0.0, 0.01, 0.25, 0.5, 0.9, 0.95, 0.99, 0.999, 1.0}) {
+        SCOPED_TRACE(::testing::Message() << "dist " << dist << " n " << n << " p " << p);
+        expect_close(h.quantile(p), brute_quantile(values, p));
+      }
+    }
+  }
+}
+
+TEST(LogHistogram, MergeEqualsAddingEverything) {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<Nanos> d(-5 * kNanosPerMicro, 900 * kMs);
+  LogHistogram a;
+  LogHistogram b;
+  LogHistogram all;
+  for (int i = 0; i < 3000; ++i) {
+    const Nanos v = d(rng);
+    (i % 3 == 0 ? a : b).add(v);
+    all.add(v);
+  }
+  a.merge(b);
+  EXPECT_EQ(a.count(), all.count());
+  EXPECT_EQ(a.min(), all.min());
+  EXPECT_EQ(a.max(), all.max());
+  for (const double p : {0.1, 0.5, 0.99}) EXPECT_EQ(a.quantile(p), all.quantile(p));
+}
+
+TEST(LogHistogram, BucketsCoverEverySampleOnce) {
+  LogHistogram h;
+  for (Nanos v :
+       {Nanos{0}, Nanos{500}, 3 * kMs, 3 * kMs + 1, 250 * kMs, 86'000 * kNanosPerSecond}) {
+    h.add(v);
+  }
+  std::uint64_t total = 0;
+  Nanos previous_hi = std::numeric_limits<Nanos>::min();
+  h.for_each_bucket([&](Nanos lo, Nanos hi, std::uint64_t n) {
+    EXPECT_LE(lo, hi);
+    EXPECT_GT(lo, previous_hi);
+    previous_hi = hi;
+    total += n;
+  });
+  EXPECT_EQ(total, 6U);
+}
+
+// ---- TimeBuckets ----------------------------------------------------------------------
+
+struct Sum {
+  double v = 0;
+  std::uint64_t n = 0;
+  void merge(const Sum& o) {
+    v += o.v;
+    n += o.n;
+  }
+};
+
+TEST(TimeBuckets, WidenKeepsTotalsAndCoversLateTimes) {
+  TimeBuckets<Sum> tb(1000, 10, 8);
+  for (Nanos t = 1000; t < 1000 + 1000; t += 7) ++tb.at(t).n;  // 143 samples over 1000 ns
+  EXPECT_GE(tb.end(), 2000);
+  EXPECT_EQ(tb.width(), 160);  // 10 → 160 covers 1280 ns in 8 buckets
+  std::uint64_t n = 0;
+  for (std::size_t i = 0; i < tb.size(); ++i) n += tb[i].n;
+  EXPECT_EQ(n, 143U);
+}
+
+TEST(TimeBuckets, SpreadSplitsBusyTimeByOverlap) {
+  TimeBuckets<Sum> tb(0, 100, 4);
+  tb.spread(50, 250, [](Sum& s, double share) { s.v += share * 200.0; });
+  EXPECT_DOUBLE_EQ(tb[0].v, 50.0);
+  EXPECT_DOUBLE_EQ(tb[1].v, 100.0);
+  EXPECT_DOUBLE_EQ(tb[2].v, 50.0);
+  EXPECT_DOUBLE_EQ(tb[3].v, 0.0);
+  tb.spread(350, 500, [](Sum& s, double share) { s.v += share * 150.0; });  // widens to 200
+  EXPECT_EQ(tb.width(), 200);
+  EXPECT_DOUBLE_EQ(tb[0].v, 150.0);
+  EXPECT_DOUBLE_EQ(tb[1].v, 50.0 + 50.0);
+  EXPECT_DOUBLE_EQ(tb[2].v, 100.0);
+}
+
+// ---- TrafficStats over crafted buses --------------------------------------------------
+
+std::vector<std::uint8_t> read_request(std::uint8_t slave, std::uint16_t addr = 0x0010,
+                                       std::uint8_t qty = 2) {
+  return with_crc({slave, 0x03, static_cast<std::uint8_t>(addr >> 8U),
+                   static_cast<std::uint8_t>(addr & 0xFFU), 0x00, qty});
+}
+
+std::vector<std::uint8_t> read_response(std::uint8_t slave, std::uint16_t a = 0x1234,
+                                        std::uint16_t b = 0x0042) {
+  return with_crc({slave, 0x03, 0x04, static_cast<std::uint8_t>(a >> 8U),
+                   static_cast<std::uint8_t>(a & 0xFFU), static_cast<std::uint8_t>(b >> 8U),
+                   static_cast<std::uint8_t>(b & 0xFFU)});
+}
+
+std::vector<std::uint8_t> long_response(std::uint8_t slave, std::uint8_t regs) {
+  std::vector<std::uint8_t> body = {slave, 0x03, static_cast<std::uint8_t>(2 * regs)};
+  for (std::uint8_t i = 0; i < 2 * regs; ++i) body.push_back(static_cast<std::uint8_t>(i * 7));
+  const std::uint16_t crc = crc16(body);
+  body.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  body.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  return body;
+}
+
+std::vector<std::uint8_t> corrupt(std::vector<std::uint8_t> frame) {
+  frame[frame.size() - 1] ^= 0x5AU;
+  return frame;
+}
+
+struct Analysis {
+  std::unique_ptr<RawRegisterSource> raw = std::make_unique<RawRegisterSource>();
+  std::unique_ptr<TrafficStats> stats;
+  std::vector<Finding> findings;
+
+  [[nodiscard]] const Finding* find(std::string_view key) const {
+    for (const auto& f : findings) {
+      if (f.key == key) return &f;
+    }
+    return nullptr;
+  }
+  [[nodiscard]] double evidence(std::string_view key, std::string_view name) const {
+    const Finding* f = find(key);
+    if (f == nullptr) return -1;
+    for (const auto& e : f->evidence) {
+      if (e.name == name) return e.value;
+    }
+    return -1;
+  }
+};
+
+Analysis analyse(const BusBuilder& bus, Nanos resolution = kNanosPerMicro) {
+  Analysis a;
+  a.stats = std::make_unique<TrafficStats>(a.raw.get());
+  PipelineOptions o;
+  o.line = bus.line();
+  o.timing_resolution = resolution;
+  o.per_byte_timing = true;
+  CaptureInfo info;
+  info.source = "crafted";
+  info.line = bus.line();
+  info.timing_resolution = resolution;
+  info.per_byte_timing = true;
+  DecodePipeline pipeline(o, *a.stats);
+  pipeline.start(info);
+  for (const Chunk& c : bus.per_byte()) pipeline.push(c);
+  pipeline.finish();
+  a.findings = find_problems(*a.stats);
+  return a;
+}
+
+// A healthy bus: slaves 1-3 polled in turn, 8-15 ms latency, 50 ms between transactions.
+void clean_cycle(BusBuilder& bus, int cycles, std::uint16_t value = 0x1234) {
+  for (int c = 0; c < cycles; ++c) {
+    for (std::uint8_t s = 1; s <= 3; ++s) {
+      bus.add(read_request(s), 50 * kMs);
+      bus.add(read_response(s, value, static_cast<std::uint16_t>(c)), (8 + (c * 3 + s) % 8) * kMs);
+    }
+  }
+}
+
+TEST(TrafficStats, CleanBusHasNoFindingsAndExactCounts) {
+  BusBuilder bus;
+  clean_cycle(bus, 40);
+  const Analysis a = analyse(bus);
+  for (const auto& f : a.findings) ADD_FAILURE() << f.key << ": " << f.summary;
+  const Totals& t = a.stats->totals();
+  EXPECT_EQ(t.frames, 240U);
+  EXPECT_EQ(t.requests, 120U);
+  EXPECT_EQ(t.responses, 120U);
+  EXPECT_EQ(t.crc_errors, 0U);
+  EXPECT_EQ(t.noise_bytes, 0U);
+  ASSERT_NE(a.stats->slave(2), nullptr);
+  EXPECT_EQ(a.stats->slave(2)->requests, 40U);
+  EXPECT_EQ(a.stats->slave(2)->latency.count(), 40U);
+  EXPECT_EQ(a.stats->slave(4), nullptr);
+  // Latencies were laid out as 8..15 ms exactly.
+  EXPECT_EQ(a.stats->slave(1)->latency.min(), 8 * kMs);
+  EXPECT_EQ(a.stats->slave(1)->latency.max(), 15 * kMs);
+}
+
+TEST(TrafficStats, UtilisationIsBytesTimesCharacterTimeOverDuration) {
+  BusBuilder bus;
+  clean_cycle(bus, 10);
+  const Analysis a = analyse(bus);
+  const Totals& t = a.stats->totals();
+  EXPECT_EQ(t.bytes, 30U * (8 + 9));
+  const double busy = static_cast<double>(t.bytes) * static_cast<double>(bus.line().char_time());
+  EXPECT_NEAR(t.utilisation(), busy / static_cast<double>(t.duration()), 1e-12);
+  double timeline_busy = 0;
+  const auto& tl = a.stats->timeline();
+  for (std::size_t i = 0; i < tl.size(); ++i) timeline_busy += tl[i].busy_ns;
+  EXPECT_NEAR(timeline_busy, busy, 1.0);
+}
+
+TEST(TrafficStats, PollPeriodIsTheMedianIntervalDespiteAMissedPoll) {
+  BusBuilder bus;
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> jitter(-5, 5);
+  for (int c = 0; c < 60; ++c) {
+    // One poll of slave 5 per second; poll 30 is skipped (a 2 s interval).
+    const Nanos idle = (c == 31 ? 2000 : 1000) * kMs + jitter(rng) * kMs -
+                       2 * 9 * bus.line().char_time() - 10 * kMs;
+    bus.add(read_request(5, 0x0100, 4), c == 0 ? kMs : idle);
+    bus.add(with_crc({5, 0x03, 0x08, 0, 1, 0, 2, 0, 3, 0, 4}), 10 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const auto& kinds = a.stats->request_kinds();
+  ASSERT_EQ(kinds.size(), 1U);
+  const auto& [kind, k] = *kinds.begin();
+  EXPECT_EQ(kind.slave, 5);
+  EXPECT_EQ(kind.function, 3);
+  EXPECT_EQ(kind.addr, 0x0100);
+  EXPECT_EQ(kind.qty, 4);
+  EXPECT_EQ(k.count, 60U);
+  EXPECT_EQ(k.responses, 60U);
+  EXPECT_NEAR(to_millis(k.period.quantile(0.5)), 1000.0, 20.0);
+  EXPECT_GT(to_millis(k.period.max()), 1900.0);
+}
+
+TEST(TrafficStats, RawRegisterValuesBecomePointSeries) {
+  BusBuilder bus;
+  clean_cycle(bus, 5);
+  const Analysis a = analyse(bus);
+  const auto& points = a.stats->points();
+  const auto it = points.find({std::uint8_t{2}, std::string("holding 0x0011")});
+  ASSERT_NE(it, points.end());
+  EXPECT_EQ(it->second.samples, 5U);
+  EXPECT_EQ(it->second.changes, 4U);  // the cycle number 0..4
+  EXPECT_EQ(it->second.min, 0.0);
+  EXPECT_EQ(it->second.max, 4.0);
+  const auto constant = points.find({std::uint8_t{2}, std::string("holding 0x0010")});
+  ASSERT_NE(constant, points.end());
+  EXPECT_EQ(constant->second.changes, 0U);
+  EXPECT_EQ(constant->second.last, 0x1234);
+}
+
+TEST(Findings, CrcErrorsOnOneSlave) {
+  BusBuilder bus;
+  for (int c = 0; c < 30; ++c) {
+    for (std::uint8_t s = 1; s <= 3; ++s) {
+      bus.add(read_request(s), 50 * kMs);
+      auto rsp = read_response(s);
+      bus.add(s == 2 && c % 4 == 0 ? corrupt(rsp) : rsp, 10 * kMs);
+    }
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("crc_errors_one_slave");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{2});
+  EXPECT_EQ(f->severity, Severity::kError);
+  EXPECT_EQ(a.evidence("crc_errors_one_slave", "slave_crc_errors"), 8.0);
+  EXPECT_EQ(a.find("crc_errors_spread"), nullptr);
+}
+
+TEST(Findings, CrcErrorsOnLongFrames) {
+  BusBuilder bus;
+  for (int c = 0; c < 24; ++c) {
+    for (std::uint8_t s = 1; s <= 3; ++s) {
+      const bool big = s == 3 || s == 1;
+      bus.add(read_request(s, 0, big ? 40 : 2), 50 * kMs);
+      auto rsp = big ? long_response(s, 40) : read_response(s);
+      bus.add(big && c % 3 == 0 ? corrupt(rsp) : rsp, 10 * kMs);
+    }
+  }
+  const Analysis a = analyse(bus);
+  EXPECT_NE(a.find("crc_errors_long_frames"), nullptr);
+  EXPECT_EQ(a.find("crc_errors_one_slave"), nullptr);  // two slaves alike
+}
+
+TEST(Findings, ZeroBytesAfterTurnaround) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 12; ++c) {
+    bus.add(read_request(1), 50 * kMs);
+    if (c % 2 == 0) bus.add({0x00}, 5 * kMs);  // slave 1 enables its driver: a false start
+    bus.add(read_response(1), 8 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("turnaround_glitches");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(a.evidence("turnaround_glitches", "after_requests"), 6.0);
+  EXPECT_EQ(a.evidence("turnaround_glitches", "bytes_00"), 6.0);
+  EXPECT_EQ(a.find("noise"), nullptr);  // the glitches are explained
+}
+
+TEST(Findings, PausesInsideOneSlavesResponses) {
+  BusBuilder bus;
+  clean_cycle(bus, 3);
+  for (int c = 0; c < 10; ++c) {
+    bus.add(read_request(3), 50 * kMs);
+    const auto rsp = read_response(3);
+    bus.add({rsp.begin(), rsp.begin() + 3}, 10 * kMs);
+    bus.add({rsp.begin() + 3, rsp.end()}, 3 * kMs);  // > t1.5 (1.72 ms), < t3.5 (4.01 ms)
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("pauses_in_responses");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{3});
+  EXPECT_EQ(a.evidence("pauses_in_responses", "responses_with_pause"), 10.0);
+
+  // The same bus seen through timestamps too coarse to show t1.5: no claim.
+  const Analysis coarse = analyse(bus, 16 * kMs);
+  EXPECT_EQ(coarse.find("pauses_in_responses"), nullptr);
+}
+
+TEST(Findings, ResponsesAfterTheMasterMovedOn) {
+  BusBuilder bus;
+  clean_cycle(bus, 3);
+  for (int c = 0; c < 4; ++c) {
+    bus.add(read_request(4), 50 * kMs);
+    bus.add(read_request(1), 200 * kMs);  // the master gives up on slave 4
+    bus.add(read_response(4), 80 * kMs);  // slave 4 answers 300 ms after its request
+    bus.add(read_response(1), 20 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("responses_after_next_request");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{4});
+  EXPECT_EQ(a.evidence("responses_after_next_request", "late_answers"), 4.0);
+}
+
+TEST(Findings, TimeoutFitFromTheLatencyDistribution) {
+  BusBuilder bus;
+  for (int c = 0; c < 200; ++c) {
+    bus.add(read_request(7), 50 * kMs);
+    // Slave 7 answers in 120 ms, once in 50 polls in 280 ms.
+    bus.add(read_response(7), (c % 50 == 0 ? 280 : 120) * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("timeout_fit");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{7});
+  EXPECT_EQ(a.evidence("timeout_fit", "losing_timeout"), 250.0);
+  EXPECT_EQ(a.evidence("timeout_fit", "safe_timeout"), 300.0);
+  EXPECT_DOUBLE_EQ(a.evidence("timeout_fit", "lost_share"), 2.0);
+  EXPECT_NE(
+      f->summary.find("250 ms would have lost 2.0% of slave 7's responses; 300 ms loses none"),
+      std::string::npos)
+      << f->summary;
+}
+
+TEST(Findings, SlaveNotResponding) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 5; ++c) {
+    bus.add(read_request(9), 50 * kMs);
+    bus.add(read_request(1), 1100 * kMs);  // after the 1 s response timeout
+    bus.add(read_response(1), 10 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("slave_not_responding");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{9});
+  EXPECT_EQ(a.evidence("slave_not_responding", "timeouts"), 5.0);
+  EXPECT_EQ(a.stats->totals().timeouts, 5U);
+}
+
+TEST(Findings, ExceptionsForOneRequestKind) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 4; ++c) {
+    bus.add(read_request(2, 0x0900, 4), 50 * kMs);
+    bus.add(with_crc({2, 0x83, 0x02}), 10 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("exceptions_for_request");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(a.evidence("exceptions_for_request", "address"), 0x0900);
+  EXPECT_EQ(a.evidence("exceptions_for_request", "exception_code"), 2.0);
+  EXPECT_EQ(a.stats->slave(2)->exception_codes.at(2), 4U);
+}
+
+TEST(Findings, ResponsesTooSoonAfterTheRequest) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 5; ++c) {
+    bus.add(read_request(1), 50 * kMs);
+    bus.add(read_response(1), 2 * kMs);  // < t3.5
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("responses_too_soon");
+  ASSERT_NE(f, nullptr) << a.stats->totals().t35_frames;
+  EXPECT_EQ(f->slave, std::uint8_t{1});
+  EXPECT_EQ(analyse(bus, 16 * kMs).find("responses_too_soon"), nullptr);
+}
+
+TEST(Findings, NoiseBursts) {
+  BusBuilder bus;
+  clean_cycle(bus, 5);
+  bus.add({0x13, 0x37, 0xC0, 0xDE, 0x55, 0xAA, 0x42, 0x99, 0x17, 0x71}, 30 * kMs);
+  clean_cycle(bus, 5);
+  const Analysis a = analyse(bus);
+  ASSERT_NE(a.find("noise"), nullptr);
+  EXPECT_EQ(a.evidence("noise", "noise_bytes"), 10.0);
+}
+
+TEST(Findings, BusNearlyAlwaysBusy) {
+  BusBuilder bus;
+  // 70 s of back-to-back long reads: the line carries bytes ~95% of the time.
+  while (bus.size() < 62000) {
+    bus.add(read_request(1, 0, 100), 5 * kMs);
+    bus.add(long_response(1, 100), 5 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  ASSERT_NE(a.find("bus_busy"), nullptr);
+  EXPECT_GT(a.stats->totals().utilisation(), 0.8);
+}
+
+// Line errors need a source that reports them (a logic analyser); records are fed directly.
+TEST(Findings, LineErrorsWhereOneSlaveAnswers) {
+  TrafficStats stats;
+  CaptureInfo info;
+  stats.on_capture(info);
+  Nanos t = kNanosPerSecond;
+  std::int64_t txn = 0;
+  auto frame = [&](const std::vector<std::uint8_t>& bytes, Role role, std::uint8_t errors) {
+    Record r;
+    r.kind = RecordKind::kFrame;
+    std::copy(bytes.begin(), bytes.end(), r.storage.begin());
+    r.size = static_cast<std::uint16_t>(bytes.size());
+    r.crc_ok = crc16_valid(r.bytes());
+    r.role = role;
+    r.txn = txn;
+    r.t_start = t;
+    t += static_cast<Nanos>(bytes.size()) * info.line.char_time();
+    r.t_end = t;
+    r.line_errors = errors;
+    t += 20 * kMs;
+    stats.on_record(r);
+  };
+  for (int c = 0; c < 10; ++c) {
+    frame(read_request(1), Role::kRequest, 0);
+    frame(read_response(1), Role::kResponse, 0);
+    frame(read_request(6), Role::kRequest, 0);
+    Record noise;
+    noise.kind = RecordKind::kNoise;
+    noise.storage[0] = 0x3F;
+    noise.storage[1] = 0x7E;
+    noise.size = 2;
+    noise.line_errors = kParityError;
+    noise.t_start = t;
+    noise.t_end = t + 2 * info.line.char_time();
+    t = noise.t_end + 20 * kMs;
+    stats.on_record(noise);
+  }
+  stats.on_finish();
+  const auto findings = find_problems(stats);
+  const auto it = std::find_if(findings.begin(), findings.end(),
+                               [](const Finding& f) { return f.key == "line_errors_one_device"; });
+  ASSERT_NE(it, findings.end());
+  EXPECT_EQ(it->slave, std::uint8_t{6});
+  EXPECT_EQ(stats.totals().parity_errors, 10U);
+  EXPECT_GT(stats.totals().valid_frames_between_line_errors, 0U);
+}
+
+}  // namespace
+}  // namespace rtu

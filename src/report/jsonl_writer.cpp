@@ -104,7 +104,10 @@ void JsonlWriter::on_record(Record& record) {
   }
   write_issues(json, record.issues);
   if (is_frame) {
-    write_pdu_json(json, decode_pdu(record, record.role));
+    // An exception's object is written above, with the device's own name when it has one.
+    if (!(record.is_exception() && record.size >= 3)) {
+      write_pdu_json(json, decode_pdu(record, record.role));
+    }
     if (annotator_ != nullptr) annotator_->write_json(json, record);
   }
   json.end_object();

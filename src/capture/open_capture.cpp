@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "capture/input_error.hpp"
+#include "capture/pcap_import.hpp"
 #include "capture/saleae_reader.hpp"
 #include "capture/text_hex_reader.hpp"
 
@@ -119,12 +120,7 @@ std::unique_ptr<ChunkSource> open_capture(const std::string& path, WarningSink w
   switch (detect_capture_format(path)) {
     case CaptureFormat::kSaleaeCsv:
       return std::make_unique<SaleaeReader>(path, std::move(warnings));
-    case CaptureFormat::kPcap:
-      // Hook for the pcap/pcapng reader: replace this with its construction.
-      throw InputError(
-          fmt::format("{}: pcap import is not available in this build; expected a text hex capture "
-                      "(.hex, .txt) or a Saleae Logic export (.csv)",
-                      path));
+    case CaptureFormat::kPcap: return std::make_unique<PcapChunkSource>(path);
     case CaptureFormat::kTextHex: break;
   }
   return std::make_unique<TextHexReader>(path, std::move(warnings));

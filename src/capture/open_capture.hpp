@@ -24,7 +24,8 @@ enum class CaptureFormat : std::uint8_t { kTextHex, kSaleaeCsv, kPcap };
 CaptureFormat detect_capture_format(const std::string& path);
 
 // The reader for `path`. Throws InputError when the file cannot be opened or its format has no
-// reader here ("PATH: pcap import is not available ...").
+// reader here. pcap/pcapng files give a PcapChunkSource (frame records as chunks);
+// replay_capture reads them with PcapImporter instead, so frame records stay frames.
 std::unique_ptr<ChunkSource> open_capture(const std::string& path,
                                           WarningSink warnings = print_warning_to_stderr);
 

@@ -75,6 +75,30 @@ void DecodePipeline::push_frame(std::span<const std::uint8_t> adu, Nanos t_start
   impl_->tracker.on_record(rec);
 }
 
+void DecodePipeline::push_noise(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
+                                std::uint64_t origin) {
+  if (!impl_->started) start(CaptureInfo{});
+  // Longer spans than a record holds become several records, so no byte is lost.
+  while (!bytes.empty()) {
+    Record& rec = impl_->imported;
+    rec = Record{};
+    rec.kind = RecordKind::kNoise;
+    rec.size = static_cast<std::uint16_t>(std::min(bytes.size(), kMaxAdu));
+    std::memcpy(rec.storage.data(), bytes.data(), rec.size);
+    rec.t_start = t_start;
+    rec.t_end = t_end;
+    rec.origin = origin;
+    rec.seq = impl_->import_seq++;
+    if (impl_->last_import_end != kUnknownTime) {
+      rec.gap_before = std::max<Nanos>(0, t_start - impl_->last_import_end);
+    }
+    impl_->last_import_end = t_end;
+    rec.issues.add(IssueId::kNoiseBytes);
+    impl_->tracker.on_record(rec);
+    bytes = bytes.subspan(rec.size);
+  }
+}
+
 void DecodePipeline::finish() {
   impl_->framer.finish();
   impl_->tracker.on_finish();

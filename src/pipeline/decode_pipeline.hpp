@@ -35,6 +35,10 @@ class DecodePipeline {
   // LINKTYPE_WIRESHARK_UPPER_PDU): bypasses the framer, still CRC-checked and paired.
   void push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
                   std::uint64_t origin);
+  // Bytes already known to form no frame (imported noise records): a noise record, as
+  // the framer would have emitted it.
+  void push_noise(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
+                  std::uint64_t origin);
   // Flushes partial frames and open transactions.
   void finish();
 

@@ -3,11 +3,15 @@
 #include "capture/input_error.hpp"
 #include "capture/open_capture.hpp"
 #include "framing/timing_estimator.hpp"
+#include "pipeline/pcap_replay.hpp"
 
 namespace rtu {
 
 CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options,
                            RecordSink& sink) {
+  if (detect_capture_format(path) == CaptureFormat::kPcap) {
+    return replay_pcap_capture(path, options, sink);
+  }
   // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
   TimingEstimator estimator;
   auto first = open_capture(path);
@@ -42,7 +46,10 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   pipeline.start(info);
   auto second = open_capture(path, [](std::string_view) {});
   try {
-    while (second->next(chunk)) pipeline.push(chunk);
+    while (second->next(chunk)) {
+      if (options.on_chunk) options.on_chunk(chunk);
+      pipeline.push(chunk);
+    }
   } catch (...) {
     pipeline.finish();  // everything before the damage is still delivered
     throw;

@@ -3,6 +3,7 @@
 // timing resolution and the line settings the file declares (bounded memory), the second
 // decodes. Options on the command line win over the file, which wins over the Modbus
 // default 9600 8E1.
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -16,6 +17,8 @@ struct ReplayOptions {
   LineOverrides overrides;
   Nanos response_timeout = 1000 * kNanosPerMilli;
   std::optional<Nanos> resolution;  // overrides the estimate
+  // Sees every chunk of the decoding pass just before the pipeline does (raw exports).
+  std::function<void(const Chunk&)> on_chunk;
 };
 
 // Decodes `path` into `sink` and returns what was learned about the capture.

@@ -8,9 +8,10 @@ MODBUS_PREFS = ["-o", "mbrtu.crc_verification:TRUE", "-o", "mbrtu.tcp.port:502"]
 
 
 def run_fields(tshark, path, fields, extra=()):
-    """Returns [{field: [values...]}...], one dict per frame, values split on ';'."""
+    """Returns [{field: [values...]}...], one dict per frame. Several values of a field are
+    joined by tshark with an ASCII record separator, which comments never hold."""
     cmd = [tshark, "-n", "-r", path, *MODBUS_PREFS, *extra, "-T", "fields",
-           "-E", "separator=\t", "-E", "occurrence=a", "-E", "aggregator=;", "-E", "quote=n"]
+           "-E", "separator=\t", "-E", "occurrence=a", "-E", "aggregator=\x1e", "-E", "quote=n"]
     for f in fields:
         cmd += ["-e", f]
     env = dict(os.environ)
@@ -22,10 +23,12 @@ def run_fields(tshark, path, fields, extra=()):
     if proc.returncode != 0:
         raise AssertionError(f"tshark failed ({proc.returncode}) on {path}: {proc.stderr}")
     rows = []
-    for line in proc.stdout.splitlines():
+    for line in proc.stdout.split("\n"):
+        if not line:
+            continue
         cols = line.split("\t")
         cols += [""] * (len(fields) - len(cols))
-        rows.append({f: ([] if c == "" else c.split(";")) for f, c in zip(fields, cols)})
+        rows.append({f: ([] if c == "" else c.split("\x1e")) for f, c in zip(fields, cols)})
     return rows
 
 

@@ -1,0 +1,69 @@
+// rtuscope export FILE -o OUT.pcapng|OUT.pcap [--raw]: decodes a capture and writes the
+// frames (and with --raw the raw reads and line events) for Wireshark.
+#include <fmt/format.h>
+
+#include <memory>
+#include <string>
+
+#include "app/command.hpp"
+#include "app/line_options.hpp"
+#include "capture/byte_output.hpp"
+#include "capture/input_error.hpp"
+#include "pipeline/replay.hpp"
+#include "report/pcap_export.hpp"
+
+namespace rtu::app {
+namespace {
+
+struct ExportArgs {
+  std::string file;
+  std::string output;
+  bool raw = false;
+  LineOptions line;
+};
+
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+void setup_export(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<ExportArgs>();
+  auto* cmd = app.add_subcommand(
+      "export",
+      "Decode a capture and write it for Wireshark: OUT.pcapng (frames; --raw adds the raw "
+      "reads and line events on a second interface) or OUT.pcap (frames only). Open with "
+      "`-o mbrtu.tcp.port:502 -o mbrtu.crc_verification:TRUE` to classify every function "
+      "code and check CRCs.");
+  cmd->add_option("file", args->file, "Capture: text hex (.hex/.txt), Saleae CSV, pcap/pcapng")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "Output file: .pcapng or .pcap")->required();
+  cmd->add_flag("--raw", args->raw,
+                "Also write every raw read and line event (LINKTYPE_RTAC_SERIAL; pcapng only)");
+  args->line.add_to(*cmd);
+  cmd->callback([args, &exit_code] {
+    PcapExportOptions options;
+    options.format =
+        ends_with(args->output, ".pcap") ? PcapExportFormat::kPcap : PcapExportFormat::kPcapng;
+    if (options.format == PcapExportFormat::kPcap && args->raw) {
+      throw InputError(fmt::format(
+          "{}: --raw needs a .pcapng output (classic pcap holds one link type per file)",
+          args->output));
+    }
+    options.raw = args->raw;
+    ReplayOptions replay = args->line.to_replay_options();
+    PcapExportSink sink(std::make_unique<FileOutput>(args->output), options);
+    if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
+    replay_capture(args->file, replay, sink);
+    const auto& counts = sink.counts();
+    fmt::print(stderr, "rtuscope: {}: {} frames, {} noise records{}\n", args->output, counts.frames,
+               counts.noise,
+               options.raw ? fmt::format(", {} raw records", counts.raw_records) : "");
+    exit_code = 0;
+  });
+}
+
+RTUSCOPE_REGISTER_COMMAND(setup_export);
+
+}  // namespace
+}  // namespace rtu::app

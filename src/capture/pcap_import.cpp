@@ -1,0 +1,203 @@
+#include "capture/pcap_import.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+
+#include "capture/input_error.hpp"
+#include "capture/pcap_format.hpp"
+#include "capture/rtac_serial.hpp"
+#include "capture/upper_pdu.hpp"
+
+namespace rtu {
+namespace {
+
+std::uint8_t errors_of(std::uint8_t event) {
+  switch (static_cast<RtacEvent>(event)) {
+    case RtacEvent::kParityError: return kParityError;
+    case RtacEvent::kFramingError: return kFramingError;
+    case RtacEvent::kSerialBreak: return kBreak;
+    case RtacEvent::kSerialOverflow:
+    case RtacEvent::kCaptureDataLost: return kOverrun;
+    default: return kLineOk;
+  }
+}
+
+}  // namespace
+
+std::optional<LineSettings> parse_line_description(std::string_view text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (std::isdigit(static_cast<unsigned char>(text[i])) == 0) continue;
+    if (i > 0 && std::isalnum(static_cast<unsigned char>(text[i - 1])) != 0) continue;
+    std::size_t j = i;
+    std::uint64_t baud = 0;
+    while (j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])) != 0 &&
+           baud < 100'000'000) {
+      baud = baud * 10 + static_cast<std::uint64_t>(text[j] - '0');
+      ++j;
+    }
+    if (j + 4 > text.size() || text[j] != ' ' || text[j + 1] != '8') continue;
+    const auto parity = parse_parity(text.substr(j + 2, 1));
+    const char stop = text[j + 3];
+    if (!parity || (stop != '1' && stop != '2') || baud == 0) continue;
+    if (j + 4 < text.size() && std::isalnum(static_cast<unsigned char>(text[j + 4])) != 0) {
+      continue;
+    }
+    LineSettings line;
+    line.baud = static_cast<std::uint32_t>(baud);
+    line.parity = *parity;
+    line.stop_bits = static_cast<std::uint8_t>(stop - '0');
+    return line;
+  }
+  return std::nullopt;
+}
+
+std::optional<Nanos> parse_resolution_description(std::string_view text) {
+  constexpr std::string_view kKey = "timing resolution ";
+  const auto at = text.find(kKey);
+  if (at == std::string_view::npos) return std::nullopt;
+  std::size_t i = at + kKey.size();
+  Nanos whole = 0;
+  Nanos fraction = 0;
+  Nanos scale = kNanosPerMilli;
+  bool digits = false;
+  while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])) != 0 &&
+         whole < kNanosPerSecond * 1000) {
+    whole = whole * 10 + (text[i++] - '0');
+    digits = true;
+  }
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])) != 0) {
+      if (scale > 1) {
+        scale /= 10;
+        fraction += (text[i] - '0') * scale;
+      }
+      ++i;
+      digits = true;
+    }
+  }
+  if (!digits || text.substr(i, 3) != " ms") return std::nullopt;
+  return whole * kNanosPerMilli + fraction;
+}
+
+PcapImporter::PcapImporter(const std::string& path)
+    : reader_(std::make_unique<PcapReader>(
+          path, std::vector<std::uint16_t>{pcap::kLinkTypeRtacSerial, pcap::kLinkTypeUpperPdu})) {}
+
+PcapImporter::~PcapImporter() = default;
+
+const std::string& PcapImporter::name() const {
+  return reader_->name();
+}
+
+bool PcapImporter::fetch() {
+  if (have_packet_) return true;
+  if (ended_) return false;
+  if (!reader_->next(packet_)) {
+    ended_ = true;
+    return false;
+  }
+  if (!declared_) declared_ = parse_line_description(packet_.interface_description);
+  if (!resolution_) resolution_ = parse_resolution_description(packet_.interface_description);
+  have_packet_ = true;
+  return true;
+}
+
+bool PcapImporter::next(PcapItem& out) {
+  if (deferred_) {
+    const InputError error = *deferred_;
+    deferred_.reset();
+    ended_ = true;
+    throw error;
+  }
+  for (;;) {
+    if (!fetch()) return false;
+    const std::uint64_t at = packet_.offset;
+    std::string error;
+    if (packet_.link_type == pcap::kLinkTypeUpperPdu) {
+      have_packet_ = false;
+      const auto pdu = parse_upper_pdu(packet_.data, error);
+      if (!pdu) {
+        throw InputError(fmt::format("{}: offset {}: upper-PDU record: {}", name(), at, error));
+      }
+      if (pdu->dissector != upper_pdu::kModbusRtuDissector && pdu->dissector != "data") {
+        throw InputError(fmt::format(
+            "{}: offset {}: upper-PDU record for dissector '{}'; expected 'mbrtu' (Modbus RTU "
+            "frames) or 'data' (bytes that form no frame)",
+            name(), at, pdu->dissector));
+      }
+      bytes_.assign(pdu->payload.begin(), pdu->payload.end());
+      out = PcapItem{};
+      out.kind = pdu->dissector == "data" ? PcapItem::Kind::kNoise : PcapItem::Kind::kFrame;
+      out.bytes = bytes_;
+      out.t_start = packet_.t;
+      out.offset = at;
+      out.resolution = packet_.resolution;
+      return true;
+    }
+    // RTAC serial: gather the records that share this time into one chunk.
+    const Nanos t = packet_.t;
+    const std::uint32_t interface_id = packet_.interface_id;
+    const std::uint32_t section = packet_.section;
+    out = PcapItem{};
+    out.kind = PcapItem::Kind::kChunk;
+    out.offset = at;
+    out.resolution = packet_.resolution;
+    bytes_.clear();
+    errors_.clear();
+    bool any_error = false;
+    while (have_packet_ && packet_.link_type == pcap::kLinkTypeRtacSerial && packet_.t == t &&
+           packet_.interface_id == interface_id && packet_.section == section) {
+      const auto rec = parse_rtac_record(packet_.data, error);
+      if (!rec) throw InputError(fmt::format("{}: offset {}: {}", name(), packet_.offset, error));
+      const std::uint8_t flags = errors_of(rec->event);
+      if (rec->payload.empty()) {
+        pending_errors_ = static_cast<std::uint8_t>(pending_errors_ | flags);
+      }
+      for (const std::uint8_t b : rec->payload) {
+        bytes_.push_back(b);
+        const auto e = static_cast<std::uint8_t>(flags | pending_errors_);
+        pending_errors_ = 0;
+        any_error = any_error || e != 0;
+        errors_.push_back(e);
+      }
+      have_packet_ = false;
+      try {
+        if (!fetch()) break;
+      } catch (const InputError& e) {
+        // Deliver the bytes gathered so far first; the error comes with the next call.
+        deferred_ = e;
+        break;
+      }
+    }
+    if (bytes_.empty()) continue;  // events with no bytes: carried to the next byte
+    out.chunk.t_end = t;
+    out.chunk.bytes = bytes_;
+    if (any_error) out.chunk.errors = errors_;
+    out.chunk.origin = at;
+    return true;
+  }
+}
+
+PcapChunkSource::PcapChunkSource(const std::string& path, LineSettings line)
+    : importer_(path), line_(line) {}
+
+bool PcapChunkSource::next(Chunk& out) {
+  PcapItem item;
+  if (!importer_.next(item)) return false;
+  if (precision_ == 0 || item.resolution < precision_) precision_ = item.resolution;
+  if (item.kind == PcapItem::Kind::kChunk) {
+    out = item.chunk;
+    return true;
+  }
+  const LineSettings line = importer_.declared_settings().value_or(line_);
+  out = Chunk{};
+  out.t_first_start = item.t_start;
+  out.t_end = item.t_start + static_cast<Nanos>(item.bytes.size()) * line.char_time();
+  out.bytes = item.bytes;
+  out.origin = item.offset;
+  return true;
+}
+
+}  // namespace rtu

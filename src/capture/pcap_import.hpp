@@ -1,0 +1,94 @@
+#pragma once
+// Reads what rtuscope (or another tool) stored in a pcap/pcapng file, in file order:
+//  * LINKTYPE_RTAC_SERIAL (250) records become timed chunks for the framer. The record's
+//    time is the chunk's read completion. Consecutive records with the same time are one
+//    chunk (rtuscope's raw export splits a chunk where its line errors change). Line
+//    events carry their bytes flagged: PARITY_ERROR → parity, FRAMING_ERROR → framing,
+//    SERIAL_BREAK_EVENT → break, SERIAL_OVERFLOW_EVENT and CAPTURE_DATA_LOST → overrun.
+//    An event with no bytes flags the next byte that arrives.
+//  * LINKTYPE_WIRESHARK_UPPER_PDU (252) records for dissector `mbrtu` are frames whose
+//    boundaries are known; records for dissector `data` are noise (rtuscope writes the
+//    bytes that form no frame that way). The record's time is the first byte's start.
+// Other link types, other dissectors and malformed records: InputError with the offset.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "capture/chunk_source.hpp"
+#include "capture/input_error.hpp"
+#include "capture/pcap_reader.hpp"
+#include "core/chunk.hpp"
+#include "serial/line_settings.hpp"
+
+namespace rtu {
+
+struct PcapItem {
+  enum class Kind : std::uint8_t { kChunk, kFrame, kNoise };
+  Kind kind = Kind::kChunk;
+  Chunk chunk;  // kChunk; spans valid until the next call
+  // kFrame / kNoise; valid until the next call
+  std::span<const std::uint8_t> bytes;
+  Nanos t_start = 0;
+  std::uint64_t offset = 0;  // byte offset of the (first) record in the file
+  Nanos resolution = 0;      // timestamp step of its interface
+};
+
+class PcapImporter {
+ public:
+  explicit PcapImporter(const std::string& path);
+  ~PcapImporter();
+  PcapImporter(const PcapImporter&) = delete;
+  PcapImporter& operator=(const PcapImporter&) = delete;
+
+  bool next(PcapItem& out);
+  // Line settings from an interface description such as "RS-485 9600 8E1" (rtuscope's
+  // exports write them there); known once the first item was read.
+  [[nodiscard]] std::optional<LineSettings> declared_settings() const { return declared_; }
+  // Timing resolution of the capture the frames were decoded from, from an interface
+  // description holding "timing resolution <ms> ms" (rtuscope's exports write it).
+  [[nodiscard]] std::optional<Nanos> declared_resolution() const { return resolution_; }
+  [[nodiscard]] const std::string& name() const;
+
+ private:
+  bool fetch();  // next packet into packet_; false at the end
+  std::unique_ptr<PcapReader> reader_;
+  CapturePacket packet_;
+  bool have_packet_ = false;
+  bool ended_ = false;
+  std::optional<LineSettings> declared_;
+  std::optional<Nanos> resolution_;
+  std::optional<InputError> deferred_;
+  std::uint8_t pending_errors_ = 0;  // from events without bytes
+  std::vector<std::uint8_t> bytes_;
+  std::vector<std::uint8_t> errors_;
+};
+
+// "timing resolution 16.000 ms" anywhere in `text`.
+std::optional<Nanos> parse_resolution_description(std::string_view text);
+
+// "9600 8E1" anywhere in `text` (baud, 8 data bits, parity letter, stop bits).
+std::optional<LineSettings> parse_line_description(std::string_view text);
+
+// A ChunkSource over a pcap/pcapng file for consumers that only take chunks: raw records
+// as they are, and each frame or noise record as one chunk whose first byte starts at the
+// record's time (so the framer sees the same boundaries).
+class PcapChunkSource final : public ChunkSource {
+ public:
+  explicit PcapChunkSource(const std::string& path, LineSettings line = {});
+  bool next(Chunk& out) override;
+  [[nodiscard]] std::optional<LineSettings> declared_settings() const override {
+    return importer_.declared_settings();
+  }
+  [[nodiscard]] Nanos timestamp_precision() const override { return precision_; }
+  [[nodiscard]] std::string name() const override { return importer_.name(); }
+
+ private:
+  PcapImporter importer_;
+  LineSettings line_;
+  Nanos precision_ = 0;
+};
+
+}  // namespace rtu

@@ -1,0 +1,91 @@
+#include "pipeline/pcap_replay.hpp"
+
+#include <optional>
+
+#include "capture/input_error.hpp"
+#include "capture/pcap_import.hpp"
+#include "framing/timing_estimator.hpp"
+
+namespace rtu {
+
+CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& options,
+                                RecordSink& sink) {
+  // Pass 1: what the file holds, its timing resolution and declared line settings.
+  TimingEstimator estimator;
+  std::uint64_t raw_chunks = 0;
+  Nanos precision = 0;
+  std::optional<LineSettings> declared;
+  std::optional<Nanos> declared_resolution;
+  {
+    PcapImporter first(path);
+    PcapItem item;
+    try {
+      while (first.next(item)) {
+        if (precision == 0 || item.resolution < precision) precision = item.resolution;
+        if (item.kind == PcapItem::Kind::kChunk) {
+          ++raw_chunks;
+          estimator.add(item.chunk);
+        }
+      }
+    } catch (const InputError&) {
+      // Learn from what precedes the damage; pass 2 decodes up to it, then reports it.
+    }
+    declared = first.declared_settings();
+    declared_resolution = first.declared_resolution();
+  }
+  const bool use_raw = raw_chunks > 0;
+
+  CaptureInfo info;
+  info.source = path;
+  if (declared) info.line = *declared;
+  if (options.overrides.baud) info.line.baud = *options.overrides.baud;
+  if (options.overrides.parity) info.line.parity = *options.overrides.parity;
+  if (options.overrides.stop_bits) info.line.stop_bits = *options.overrides.stop_bits;
+  if (use_raw) {
+    info.per_byte_timing = estimator.mostly_single_bytes();
+    info.timing_resolution = estimator.resolution(precision);
+  } else {
+    // Frame records carry each frame's start; how well the original capture showed
+    // silences is what its export declared, else the interface's resolution.
+    info.per_byte_timing = false;
+    info.timing_resolution = declared_resolution.value_or(precision);
+  }
+  if (options.resolution) info.timing_resolution = *options.resolution;
+  info.response_timeout = options.response_timeout;
+
+  // Pass 2: decode.
+  PipelineOptions pipeline_options;
+  pipeline_options.line = info.line;
+  pipeline_options.response_timeout = info.response_timeout;
+  pipeline_options.timing_resolution = info.timing_resolution;
+  pipeline_options.per_byte_timing = false;
+  DecodePipeline pipeline(pipeline_options, sink);
+  pipeline.start(info);
+  PcapImporter second(path);
+  PcapItem item;
+  const Nanos char_time = info.line.char_time();
+  try {
+    while (second.next(item)) {
+      if (item.kind == PcapItem::Kind::kChunk) {
+        if (!use_raw) continue;
+        if (options.on_chunk) options.on_chunk(item.chunk);
+        pipeline.push(item.chunk);
+        continue;
+      }
+      if (use_raw) continue;
+      const Nanos t_end = item.t_start + static_cast<Nanos>(item.bytes.size()) * char_time;
+      if (item.kind == PcapItem::Kind::kFrame) {
+        pipeline.push_frame(item.bytes, item.t_start, t_end, item.offset);
+      } else {
+        pipeline.push_noise(item.bytes, item.t_start, t_end, item.offset);
+      }
+    }
+  } catch (...) {
+    pipeline.finish();  // everything before the damage is still delivered
+    throw;
+  }
+  pipeline.finish();
+  return info;
+}
+
+}  // namespace rtu

@@ -43,7 +43,9 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
   if (options.overrides.stop_bits) info.line.stop_bits = *options.overrides.stop_bits;
   if (use_raw) {
     info.per_byte_timing = estimator.mostly_single_bytes();
-    info.timing_resolution = estimator.resolution(precision);
+    // A live recording declares the resolution its port achieved; replay uses the same,
+    // so it frames exactly as the live run did.
+    info.timing_resolution = declared_resolution.value_or(estimator.resolution(precision));
   } else {
     // Frame records carry each frame's start; how well the original capture showed
     // silences is what its export declared, else the interface's resolution.

@@ -24,6 +24,8 @@ struct DecodePipeline::Impl {
   PipelineOptions options;
   bool started = false;
   Record imported;
+  Record& imported_record(RecordKind kind, std::span<const std::uint8_t> bytes, Nanos t_start,
+                          Nanos t_end, std::uint64_t origin);
   Nanos last_import_end = kUnknownTime;
   std::uint64_t import_seq = 0;
 };
@@ -51,25 +53,34 @@ void DecodePipeline::push(const Chunk& chunk) {
   impl_->framer.push(chunk);
 }
 
-void DecodePipeline::push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
-                                std::uint64_t origin) {
-  if (!impl_->started) start(CaptureInfo{});
-  Record& rec = impl_->imported;
+// Fills the record for bytes whose boundaries the input already gave (imported files):
+// at most one record's worth, timed as given, its gap measured from the previous one.
+Record& DecodePipeline::Impl::imported_record(RecordKind kind, std::span<const std::uint8_t> bytes,
+                                              Nanos t_start, Nanos t_end, std::uint64_t origin) {
+  Record& rec = imported;
   rec = Record{};
-  rec.kind = RecordKind::kFrame;
-  rec.size = static_cast<std::uint16_t>(std::min(adu.size(), kMaxAdu));
-  std::memcpy(rec.storage.data(), adu.data(), rec.size);
+  rec.kind = kind;
+  rec.size = static_cast<std::uint16_t>(std::min(bytes.size(), kMaxAdu));
+  std::memcpy(rec.storage.data(), bytes.data(), rec.size);
   rec.t_start = t_start;
   rec.t_end = t_end;
   rec.origin = origin;
-  rec.seq = impl_->import_seq++;
-  if (impl_->last_import_end != kUnknownTime) {
-    rec.gap_before = std::max<Nanos>(0, t_start - impl_->last_import_end);
-    if (rec.gap_before + impl_->options.timing_resolution < impl_->options.line.t3_5()) {
-      rec.issues.add(IssueId::kT35);
-    }
+  rec.seq = import_seq++;
+  if (last_import_end != kUnknownTime) {
+    rec.gap_before = std::max<Nanos>(0, t_start - last_import_end);
   }
-  impl_->last_import_end = t_end;
+  last_import_end = t_end;
+  return rec;
+}
+
+void DecodePipeline::push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
+                                std::uint64_t origin) {
+  if (!impl_->started) start(CaptureInfo{});
+  Record& rec = impl_->imported_record(RecordKind::kFrame, adu, t_start, t_end, origin);
+  if (rec.gap_before != kUnknownTime &&
+      rec.gap_before + impl_->options.timing_resolution < impl_->options.line.t3_5()) {
+    rec.issues.add(IssueId::kT35);
+  }
   classify_frame(rec);
   if (adu.size() > kMaxAdu) rec.issues.add(IssueId::kTooLong);
   impl_->tracker.on_record(rec);
@@ -80,19 +91,7 @@ void DecodePipeline::push_noise(std::span<const std::uint8_t> bytes, Nanos t_sta
   if (!impl_->started) start(CaptureInfo{});
   // Longer spans than a record holds become several records, so no byte is lost.
   while (!bytes.empty()) {
-    Record& rec = impl_->imported;
-    rec = Record{};
-    rec.kind = RecordKind::kNoise;
-    rec.size = static_cast<std::uint16_t>(std::min(bytes.size(), kMaxAdu));
-    std::memcpy(rec.storage.data(), bytes.data(), rec.size);
-    rec.t_start = t_start;
-    rec.t_end = t_end;
-    rec.origin = origin;
-    rec.seq = impl_->import_seq++;
-    if (impl_->last_import_end != kUnknownTime) {
-      rec.gap_before = std::max<Nanos>(0, t_start - impl_->last_import_end);
-    }
-    impl_->last_import_end = t_end;
+    Record& rec = impl_->imported_record(RecordKind::kNoise, bytes, t_start, t_end, origin);
     rec.issues.add(IssueId::kNoiseBytes);
     impl_->tracker.on_record(rec);
     bytes = bytes.subspan(rec.size);

@@ -6,11 +6,11 @@
 
 #include "app/command.hpp"
 #include "app/line_options.hpp"
+#include "app/report_points.hpp"
 #include "pipeline/replay.hpp"
 #include "report/findings.hpp"
 #include "report/output_stream.hpp"
 #include "report/point_csv_writer.hpp"
-#include "report/raw_register_source.hpp"
 #include "report/report_writers.hpp"
 #include "report/traffic_stats.hpp"
 
@@ -23,6 +23,7 @@ struct ReportArgs {
   std::string output = "-";
   std::string csv;
   LineOptions line;
+  DeviceOptions devices;
 };
 
 void setup_report(CLI::App& app, int& exit_code) {
@@ -37,16 +38,20 @@ void setup_report(CLI::App& app, int& exit_code) {
   cmd->add_option("--csv", args->csv,
                   "Also write register values over time as CSV (time,slave,point,value,unit)");
   args->line.add_to(*cmd);
+  args->devices.add_to(*cmd);
   cmd->callback([args, &exit_code] {
-    const ReplayOptions options = args->line.to_replay_options();
-    RawRegisterSource raw;
+    ReplayOptions options = args->line.to_replay_options();
+    // Slaves no option names are identified from a first look at the whole capture.
+    const auto points = build_report_points(
+        args->devices, options,
+        [&](const ReplayOptions& o, RecordSink& sink) { replay_capture(args->file, o, sink); });
     std::optional<OutputStream> csv_out;
     std::optional<PointCsvWriter> csv;
     if (!args->csv.empty()) {
       csv_out.emplace(args->csv);
       csv.emplace(*csv_out);
     }
-    TrafficStats stats(&raw, csv ? &*csv : nullptr);
+    TrafficStats stats(&points->source, csv ? &*csv : nullptr);
     replay_capture(args->file, options, stats);
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);

@@ -179,4 +179,14 @@ std::vector<SlaveRanking> MapIdentifier::ranking() const {
   return out;
 }
 
+const DeviceMap* confident_map(const SlaveRanking& ranking) {
+  if (ranking.requests < kConfidentRequests || ranking.maps.empty()) return nullptr;
+  const MapEvidence& best = ranking.maps.front();
+  if (best.score < kConfidentScore) return nullptr;
+  if (ranking.maps.size() > 1 && ranking.maps[1].score > best.score - kConfidentMargin) {
+    return nullptr;
+  }
+  return best.map;
+}
+
 }  // namespace rtu::dissect

@@ -56,6 +56,16 @@ class MapIdentifier : public RecordSink {
   Decoded decoded_;
 };
 
+// The map `ranking` names with confidence, or null. Confident means: at least
+// kConfidentRequests requests, the best map explains (nearly) all of them (score ≥
+// kConfidentScore), and no other map comes within kConfidentMargin points of it. A bus
+// where one address is shared by several models, or a slave asked only a few questions,
+// stays unidentified.
+inline constexpr std::uint64_t kConfidentRequests = 10;
+inline constexpr double kConfidentScore = 99.0;
+inline constexpr double kConfidentMargin = 0.5;
+const DeviceMap* confident_map(const SlaveRanking& ranking);
+
 // How much of an address range a space defines, in the space's units.
 struct Coverage {
   std::uint32_t units = 0;

@@ -14,7 +14,8 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   }
   // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
   TimingEstimator estimator;
-  auto first = open_capture(path);
+  auto first =
+      options.show_warnings ? open_capture(path) : open_capture(path, [](std::string_view) {});
   Chunk chunk;
   try {
     while (first->next(chunk)) estimator.add(chunk);

@@ -19,6 +19,8 @@ struct ReplayOptions {
   std::optional<Nanos> resolution;  // overrides the estimate
   // Sees every chunk of the decoding pass just before the pipeline does (raw exports).
   std::function<void(const Chunk&)> on_chunk;
+  // Reader warnings go to stderr; off for an extra pass over a file already read once.
+  bool show_warnings = true;
 };
 
 // Decodes `path` into `sink` and returns what was learned about the capture.

@@ -37,6 +37,11 @@ class PointSource {
     (void)slave;
     return {};
   }
+  // Whether that model was recognised from the traffic rather than configured by the user.
+  [[nodiscard]] virtual bool device_model_identified(std::uint8_t slave) const {
+    (void)slave;
+    return false;
+  }
 };
 
 }  // namespace rtu

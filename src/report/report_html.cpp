@@ -42,9 +42,11 @@ h3{font-size:13px;margin:0 0 6px;color:var(--muted);font-weight:600}
 table{border-collapse:collapse;width:100%;font-size:13px}
 table.kv{width:auto;min-width:420px}
 table.kv th{background:none;text-align:left;font-weight:normal;color:var(--muted);padding-right:40px}
-td.wrap{white-space:normal;text-align:left;font-size:12px}
-.scroll{overflow-x:auto}
+td.wrap{white-space:normal;text-align:left;font-size:12px;min-width:130px}
+.scroll{overflow-x:auto;max-width:100%}
 th,td{padding:5px 8px;border-bottom:1px solid var(--line);text-align:right;white-space:nowrap}
+thead th{white-space:normal;vertical-align:bottom}
+svg.timeline,svg.util{min-width:720px}
 th{background:#eef2f6;color:#33475b;font-weight:600}
 td.l,th.l{text-align:left}
 tr:hover td{background:#f7fafc}
@@ -59,6 +61,7 @@ tr:hover td{background:#f7fafc}
 .finding .ev{margin-top:4px}
 .chip{display:inline-block;font-size:11px;background:#eef2f6;border-radius:10px;padding:1px 8px;margin:2px 4px 0 0;color:#33475b}
 .none{color:var(--ok);font-weight:600}
+.sub{font-size:11px;color:var(--muted)}
 .note{color:var(--muted);font-size:12px;margin-top:6px}
 svg{display:block;max-width:100%;height:auto}
 svg text{font-size:10px;fill:#5b6b7c;font-family:"DejaVu Sans",Helvetica,Arial,sans-serif}
@@ -114,7 +117,9 @@ void header(Out& o, const TrafficStats& stats) {
   put(o, "<header><h1>Modbus RTU bus report</h1><div class=\"meta\">");
   text(o, info.source);
   put(o, " &middot; {} &middot; ", escaped(info.line.describe()));
-  if (t.first_t != kUnknownTime) {
+  if (t.first_t != kUnknownTime && svg::is_wall_clock(t.first_t)) {
+    put(o, "from {} UTC, ", svg::date_time_text(t.first_t));
+  } else if (t.first_t != kUnknownTime) {
     Out b;
     append_seconds(b, t.first_t, 3);
     put(o, "from t = {} s, ", escaped(fmt::to_string(b)));
@@ -146,7 +151,7 @@ void summary(Out& o, const TrafficStats& stats) {
   card(o, "total-timeouts", "timeouts", fmt::format("{}", t.timeouts), t.timeouts > 0);
   card(o, "total-line-errors", "line errors", fmt::format("{}", t.line_error_records),
        t.line_error_records > 0);
-  put(o, "</div><table class=\"kv\"><tbody>");
+  put(o, "</div><div class=\"scroll\"><table class=\"kv\"><tbody>");
   auto row = [&](std::string_view id, std::string_view k, const std::string& v) {
     put(o, "<tr><th class=\"l\">{}</th><td id=\"{}\">{}</td></tr>", k, id, v);
   };
@@ -165,7 +170,7 @@ void summary(Out& o, const TrafficStats& stats) {
       fmt::format("{:.3f}", to_millis(info.timing_resolution)));
   row("total-timeout", "response timeout assumed (ms)",
       fmt::format("{:.0f}", to_millis(info.response_timeout)));
-  put(o, "</tbody></table><div class=\"note\">");
+  put(o, "</tbody></table></div><div class=\"note\">");
   text(o, timing_note(info));
   put(o, "</div></section>");
 }
@@ -206,7 +211,6 @@ void timeline_chart(Out& o, const TrafficStats& stats) {
     put(o, "<p class=\"note\">No traffic.</p></section>");
     return;
   }
-  const double span = span_seconds(stats);
   const double w = to_seconds(tl.width());
   std::uint64_t peak = 1;
   for (std::size_t i = 0; i < n; ++i) peak = std::max(peak, tl[i].frames);
@@ -230,14 +234,13 @@ void timeline_chart(Out& o, const TrafficStats& stats) {
   f.x_hi = w * static_cast<double>(n);
   f.y_lo = 0;
   f.y_hi = std::max(4.0, static_cast<double>(peak));
+  put(o, "<div class=\"scroll\">");
   svg::open(o, f, "frames per time bucket, with error lanes", "timeline");
-  const auto yt = svg::nice_ticks(0, f.y_hi, 4);
-  const auto xt = svg::nice_ticks(0, f.x_hi, 8);
-  f.y_hi = std::max(f.y_hi, yt.back());
+  f.y_hi = std::max(f.y_hi, svg::nice_ticks(0, f.y_hi, 4).back());
   // Lanes sit below the axis labels.
-  svg::axes(
-      o, f, xt, svg::nice_ticks(0, f.y_hi, 4), [&](double x) { return svg::time_label(x, span); },
-      "");
+  svg::y_axis(o, f, svg::nice_ticks(0, f.y_hi, 4), "");
+  const svg::TimeAxis xt = svg::time_axis(stats.totals().first_t, f.x_hi, 8);
+  svg::x_axis(o, f, xt.ticks, xt.labels);
   const double bw = f.px(w) - f.px(0);
   for (std::size_t i = 0; i < n; ++i) {
     const double x = f.px(w * static_cast<double>(i));
@@ -273,11 +276,12 @@ void timeline_chart(Out& o, const TrafficStats& stats) {
     }
   }
   svg::close(o);
+  put(o, "</div>");
   put(o,
       "<div class=\"legend\"><span><i style=\"background:#1f6fb2\"></i>requests</span>"
       "<span><i style=\"background:#7fb3e0\"></i>responses and other frames</span>"
-      "<span>bucket {:.3f} s</span></div></section>",
-      w);
+      "<span>bucket {:.3f} s</span><span>{}</span></div></section>",
+      w, xt.caption());
 }
 
 void utilisation_chart(Out& o, const TrafficStats& stats) {
@@ -288,7 +292,6 @@ void utilisation_chart(Out& o, const TrafficStats& stats) {
     put(o, "<p class=\"note\">No traffic.</p></section>");
     return;
   }
-  const double span = span_seconds(stats);
   const double w = to_seconds(tl.width());
   svg::Frame f;
   f.width = 1100;
@@ -297,10 +300,11 @@ void utilisation_chart(Out& o, const TrafficStats& stats) {
   f.x_hi = w * static_cast<double>(n);
   f.y_lo = 0;
   f.y_hi = 100;
+  put(o, "<div class=\"scroll\">");
   svg::open(o, f, "share of time the line carries bytes, per time bucket", "util");
-  svg::axes(
-      o, f, svg::nice_ticks(0, f.x_hi, 8), {0, 25, 50, 75, 100},
-      [&](double x) { return svg::time_label(x, span); }, "%");
+  svg::y_axis(o, f, {0, 25, 50, 75, 100}, "%");
+  const svg::TimeAxis xt = svg::time_axis(stats.totals().first_t, f.x_hi, 8);
+  svg::x_axis(o, f, xt.ticks, xt.labels);
   put(o, "<path class=\"util\" d=\"M{:.2f},{:.2f}", f.px(0), f.py(0));
   const double width_ns = static_cast<double>(tl.width());
   for (std::size_t i = 0; i < n; ++i) {
@@ -310,16 +314,27 @@ void utilisation_chart(Out& o, const TrafficStats& stats) {
   }
   put(o, " L{:.2f},{:.2f} Z\"/>", f.px(w * static_cast<double>(n)), f.py(0));
   svg::close(o);
+  put(o, "</div>");
   put(o,
       "<div class=\"note\">Busy time = bytes × character time ({:.3f} ms at {}); overall "
-      "{:.2f}%.</div></section>",
+      "{:.2f}%. Time axis: {}.</div></section>",
       to_millis(stats.capture().line.char_time()), escaped(stats.capture().line.describe()),
-      stats.totals().utilisation() * 100.0);
+      stats.totals().utilisation() * 100.0, xt.caption());
+}
+
+std::string device_cell(const SlaveStats& s) {
+  if (s.device.empty()) return "&ndash;";
+  if (!s.device_identified) return escaped(s.device);
+  return fmt::format(
+      "{}<div class=\"sub\" title=\"recognised from the traffic; name it with --device or "
+      "--bus\">identified</div>",
+      escaped(s.device));
 }
 
 void slave_table(Out& o, const TrafficStats& stats) {
   put(o,
-      "<section id=\"slaves\"><h2>Slaves</h2><table><thead><tr><th class=\"l\">slave</th>"
+      "<section id=\"slaves\"><h2>Slaves</h2><div class=\"scroll\"><table><thead><tr><th "
+      "class=\"l\">slave</th>"
       "<th class=\"l\">device</th><th>requests</th><th>responses</th><th>exceptions</th>"
       "<th>timeouts</th><th>CRC errors</th><th>unsolicited</th><th>wrong slave</th>"
       "<th>latency min</th><th>p50</th><th>p95</th><th>p99</th><th>max (ms)</th>"
@@ -331,10 +346,9 @@ void slave_table(Out& o, const TrafficStats& stats) {
         "<tr id=\"slave-{}\"><td class=\"l\">{}</td><td class=\"l\">{}</td><td "
         "class=\"req\">{}</td>"
         "<td class=\"rsp\">{}</td>{}{}{}{}{}",
-        a, a, s->device.empty() ? "&ndash;" : escaped(s->device), s->requests, s->responses,
-        count_cell(s->exceptions, true), count_cell(s->timeouts, true),
-        count_cell(s->crc_errors, true), count_cell(s->unsolicited, true),
-        count_cell(s->wrong_slave, true));
+        a, a, device_cell(*s), s->requests, s->responses, count_cell(s->exceptions, true),
+        count_cell(s->timeouts, true), count_cell(s->crc_errors, true),
+        count_cell(s->unsolicited, true), count_cell(s->wrong_slave, true));
     if (s->latency.empty()) {
       put(o, "<td colspan=\"5\" class=\"num0\">no timed answers</td>");
     } else {
@@ -357,7 +371,7 @@ void slave_table(Out& o, const TrafficStats& stats) {
           code, escaped(exception_name(code)), n);
     }
   }
-  put(o, "</tbody></table></section>");
+  put(o, "</tbody></table></div></section>");
 }
 
 void latency_histograms(Out& o, const TrafficStats& stats) {
@@ -433,7 +447,8 @@ void latency_histograms(Out& o, const TrafficStats& stats) {
 
 void poll_table(Out& o, const TrafficStats& stats) {
   put(o,
-      "<section id=\"polls\"><h2>Poll periods per request kind</h2><table><thead><tr>"
+      "<section id=\"polls\"><h2>Poll periods per request kind</h2><div "
+      "class=\"scroll\"><table><thead><tr>"
       "<th class=\"l\">slave</th><th class=\"l\">function</th><th>address</th><th>quantity</th>"
       "<th>requests</th><th>responses</th><th>exceptions</th><th>timeouts</th>"
       "<th>period p50</th><th>min</th><th>p95</th><th>max (ms)</th></tr></thead><tbody>");
@@ -455,7 +470,7 @@ void poll_table(Out& o, const TrafficStats& stats) {
     }
     put(o, "</tr>");
   }
-  put(o, "</tbody></table>");
+  put(o, "</tbody></table></div>");
   if (stats.request_kinds_overflow() > 0) {
     put(o, "<div class=\"note\">{} requests of further kinds are counted but not tabled.</div>",
         stats.request_kinds_overflow());
@@ -477,12 +492,13 @@ void timing_section(Out& o, const TrafficStats& stats) {
         ms_text(h.max()));
   };
   put(o,
-      "<section id=\"timing\"><h2>Timing diagnostics</h2><table><thead><tr><th class=\"l\">"
+      "<section id=\"timing\"><h2>Timing diagnostics</h2><div "
+      "class=\"scroll\"><table><thead><tr><th class=\"l\">"
       "turnaround</th><th>min</th><th>p50</th><th>p95</th><th>p99</th><th>max (ms)</th></tr>"
       "</thead><tbody>");
   pct_row("slave: request end &rarr; response start", stats.all_latencies());
   pct_row("master: response end &rarr; next request", stats.master_turnaround());
-  put(o, "</tbody></table><table style=\"margin-top:10px\"><tbody>");
+  put(o, "</tbody></table></div><div class=\"scroll\"><table style=\"margin-top:10px\"><tbody>");
   put(o, "<tr><th class=\"l\">t1.5 = {:.3f} ms, t3.5 = {:.3f} ms</th><td></td></tr>",
       to_millis(info.line.t1_5()), to_millis(info.line.t3_5()));
   put(o, "<tr><th class=\"l\">pauses &gt; t1.5 inside frames</th><td>{}</td></tr>",
@@ -498,7 +514,7 @@ void timing_section(Out& o, const TrafficStats& stats) {
         "requests / responses</th><td>{} / {}, {} / {}</td></tr>",
         a, s->t15_requests, s->t15_responses, s->t35_requests, s->t35_responses);
   }
-  put(o, "</tbody></table><div class=\"note\">");
+  put(o, "</tbody></table></div><div class=\"note\">");
   text(o, timing_note(info));
   put(o, "</div></section>");
 }
@@ -512,12 +528,13 @@ void points_section(Out& o, const TrafficStats& stats) {
     put(o, "<p class=\"note\">No register values were read in this capture.</p></section>");
     return;
   }
-  put(o,
-      "<div class=\"note\" style=\"margin:0 0 8px\">{} points change and are drawn below; {} "
-      "stay constant (see the table).</div><div class=\"grid3\">",
-      changing, constant);
   const double span = span_seconds(stats);
   const Nanos t0 = stats.totals().first_t;
+  const svg::TimeAxis xt = svg::time_axis(t0, span, 4);
+  put(o,
+      "<div class=\"note\" style=\"margin:0 0 8px\">{} points change and are drawn below "
+      "(time axis: {}); {} stay constant (see the table).</div><div class=\"grid3\">",
+      changing, xt.caption(), constant);
   std::size_t drawn = 0;
   for (const auto& [key, p] : stats.points()) {
     if (p.changes == 0) continue;
@@ -537,9 +554,8 @@ void points_section(Out& o, const TrafficStats& stats) {
     put(o, "<div class=\"small\"><h3>slave {} &middot; {}{}{}</h3>", key.first, escaped(key.second),
         p.unit.empty() ? "" : " &middot; ", escaped(p.unit));
     svg::open(o, f, fmt::format("slave {} {} over time", key.first, key.second), "point");
-    svg::axes(
-        o, f, svg::nice_ticks(0, span, 4), yt, [&](double x) { return svg::time_label(x, span); },
-        "");
+    svg::y_axis(o, f, yt, "");
+    svg::x_axis(o, f, xt.ticks, xt.labels);
     const auto& ts = p.over_time;
     const double w = to_seconds(ts.width());
     const double off = to_seconds(ts.origin() - t0);
@@ -566,8 +582,8 @@ void points_section(Out& o, const TrafficStats& stats) {
     o.append(line);
     put(o, "\"/>");
     svg::close(o);
-    put(o, "<div class=\"note\">{} samples, {} changes, last {}</div></div>", p.samples, p.changes,
-        svg::tick_label(p.last));
+    put(o, "<div class=\"note\">{} samples, {} changes, last {}{}{}</div></div>", p.samples,
+        p.changes, p.last, p.unit.empty() ? "" : " ", escaped(p.unit));
   }
   put(o, "</div>");
   if (changing > kMaxPointCharts) {
@@ -575,7 +591,8 @@ void points_section(Out& o, const TrafficStats& stats) {
         changing - kMaxPointCharts);
   }
   put(o,
-      "<table style=\"margin-top:12px\"><thead><tr><th class=\"l\">slave</th><th class=\"l\">"
+      "<div class=\"scroll\"><table style=\"margin-top:12px\"><thead><tr><th "
+      "class=\"l\">slave</th><th class=\"l\">"
       "point</th><th class=\"l\">unit</th><th>samples</th><th>changes</th><th>min</th>"
       "<th>max</th><th>last</th></tr></thead><tbody>");
   for (const auto& [key, p] : stats.points()) {
@@ -585,7 +602,7 @@ void points_section(Out& o, const TrafficStats& stats) {
         key.first, escaped(key.second), escaped(p.unit), p.samples, p.changes, p.min, p.max,
         p.last);
   }
-  put(o, "</tbody></table>");
+  put(o, "</tbody></table></div>");
   if (stats.points_overflow() > 0) {
     put(o, "<div class=\"note\">{} values of further points are not tabled.</div>",
         stats.points_overflow());

@@ -130,6 +130,11 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
     j.null();
   else
     j.value(std::string_view(s.device));
+  j.key("device_model_source");
+  if (s.device.empty())
+    j.null();
+  else
+    j.value(std::string_view(s.device_identified ? "identified" : "configured"));
   j.field("requests", s.requests);
   j.field("responses", s.responses);
   j.field("exceptions", s.exceptions);

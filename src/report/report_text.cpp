@@ -61,15 +61,21 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "SLAVES  latency ms = min/p50/p95/p99/max");
   line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", "slave", "device", "requests",
        "answers", "exc", "timeouts", "crc", "unsol", "latency ms");
+  bool any_identified = false;
   for (unsigned a = 1; a < 256; ++a) {
     const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
     if (s == nullptr) continue;
+    any_identified = any_identified || s->device_identified;
     line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", a,
-         s->device.empty() ? "-" : s->device, s->requests, s->responses, s->exceptions, s->timeouts,
-         s->crc_errors, s->unsolicited, latency_text(s->latency));
+         s->device.empty() ? "-" : s->device + (s->device_identified ? "*" : ""), s->requests,
+         s->responses, s->exceptions, s->timeouts, s->crc_errors, s->unsolicited,
+         latency_text(s->latency));
     for (const auto& [code, n] : s->exception_codes) {
       line(o, "        exception {:02X} {} ×{}", code, exception_name(code), n);
     }
+  }
+  if (any_identified) {
+    line(o, "  * device identified from the traffic; name it with --device ADDR=MODEL or --bus");
   }
   line(o, "");
 

@@ -11,7 +11,8 @@
 //              unsolicited, wrong_slave, line_errors {records, parity, framing, break,
 //              overrun}, t1_5_pauses, t3_5_violations, timing_resolution_ms, slaves,
 //              request_kinds, request_kinds_overflow, points, points_overflow}
-//   slaves    {"<addr>": {device (null when unknown), requests, responses, exceptions,
+//   slaves    {"<addr>": {device (model, null when unknown), device_model_source
+//              ("configured" by --device/--bus, "identified" from the traffic, null), requests, responses, exceptions,
 //              exceptions_by_code [{code, name, count}], timeouts, late_responses,
 //              crc_errors, unsolicited, wrong_slave, after_next_request, frames, bytes,
 //              line_errors, latency_ms {min, p50, p95, p99, max, mean} (null when no

@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/time.hpp"
+
 namespace rtu::svg {
 
 // Appends `text` with &, <, >, " escaped for HTML text and attribute values.
@@ -17,8 +19,24 @@ std::string escaped(std::string_view text);
 std::vector<double> nice_ticks(double lo, double hi, int target);
 // A tick label without needless digits: 0.5, 12, 1500, 0.025.
 std::string tick_label(double v);
-// Seconds from the capture start as an axis label: "45 s", "12 min", "3.5 h".
-std::string time_label(double seconds, double span_seconds);
+
+// The ticks of a time axis over [0, span] seconds from `origin` (a time on the input's
+// clock). Steps come from the clock's own ladder (1-2-5 below a second, then 1, 2, 5, 10,
+// 15, 30 s, 1, 2, 5, 10, 15, 30 min, 1, 2, 3, 6, 12 h, days), about `target` of them.
+// On a wall clock (is_wall_clock) ticks sit on round times of day and read "14:05:30"
+// (UTC); otherwise they read the time since the start: "0", "30 s", "2 min", "1 h 15".
+struct TimeAxis {
+  std::vector<double> ticks;  // seconds from origin
+  std::vector<std::string> labels;
+  bool wall_clock = false;
+  [[nodiscard]] std::string_view caption() const;  // "time of day (UTC)", "time from start"
+};
+TimeAxis time_axis(Nanos origin_ns, double span, int target);
+// Whether a time on the input's clock looks like Unix time (years 2000 to 2200): pcap and
+// live captures stamp wall-clock time; text captures usually count from zero.
+bool is_wall_clock(Nanos t_ns);
+// "2026-11-23 08:15:04" (UTC) for a wall-clock time.
+std::string date_time_text(Nanos t_ns);
 
 // A plot area inside an SVG element of width × height with margins for axes.
 struct Frame {
@@ -40,27 +58,24 @@ struct Frame {
 void open(fmt::memory_buffer& out, const Frame& f, std::string_view label,
           std::string_view css_class);
 void close(fmt::memory_buffer& out);
-// Grid lines and tick labels for both axes; x labels via `x_label(value)`.
+// A y-axis label with the digits its tick step needs (49.98, 49.99, 50.00, not 50 and
+// 50.0), large values in k or M by the largest tick (5M, 10M).
+std::string axis_label(double v, double step, double largest);
+// Grid lines and labels of the y axis.
+void y_axis(fmt::memory_buffer& out, const Frame& f, const std::vector<double>& ticks,
+            std::string_view unit);
+// Tick marks, labels (one per tick) and the line of the x axis.
+void x_axis(fmt::memory_buffer& out, const Frame& f, const std::vector<double>& ticks,
+            const std::vector<std::string>& labels);
+// Both axes; x labels via `x_label(value)`.
 template <typename XLabel>
 void axes(fmt::memory_buffer& out, const Frame& f, const std::vector<double>& x_ticks,
           const std::vector<double>& y_ticks, XLabel&& x_label, std::string_view y_unit) {
-  for (const double y : y_ticks) {
-    fmt::format_to(std::back_inserter(out),
-                   "<line class=\"grid\" x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\"/>"
-                   "<text class=\"ylab\" x=\"{:.1f}\" y=\"{:.1f}\">{}{}</text>",
-                   f.left, f.py(y), f.width - f.right, f.py(y), f.left - 4, f.py(y) + 3,
-                   tick_label(y), y_unit);
-  }
-  for (const double x : x_ticks) {
-    fmt::format_to(std::back_inserter(out),
-                   "<line class=\"tick\" x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\"/>"
-                   "<text class=\"xlab\" x=\"{:.1f}\" y=\"{:.1f}\">{}</text>",
-                   f.px(x), f.height - f.bottom, f.px(x), f.height - f.bottom + 4, f.px(x),
-                   f.height - f.bottom + 15, escaped(x_label(x)));
-  }
-  fmt::format_to(std::back_inserter(out),
-                 "<line class=\"axis\" x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\"/>",
-                 f.left, f.height - f.bottom, f.width - f.right, f.height - f.bottom);
+  y_axis(out, f, y_ticks, y_unit);
+  std::vector<std::string> labels;
+  labels.reserve(x_ticks.size());
+  for (const double x : x_ticks) labels.push_back(x_label(x));
+  x_axis(out, f, x_ticks, labels);
 }
 
 }  // namespace rtu::svg

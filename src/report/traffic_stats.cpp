@@ -363,7 +363,11 @@ void TrafficStats::on_point(const PointSample& sample) {
 void TrafficStats::on_finish() {
   if (point_source_ == nullptr) return;
   for (std::size_t a = 0; a < slaves_.size(); ++a) {
-    if (slaves_[a]) slaves_[a]->device = point_source_->device_model(static_cast<std::uint8_t>(a));
+    if (!slaves_[a]) continue;
+    const auto address = static_cast<std::uint8_t>(a);
+    slaves_[a]->device = point_source_->device_model(address);
+    slaves_[a]->device_identified =
+        !slaves_[a]->device.empty() && point_source_->device_model_identified(address);
   }
 }
 

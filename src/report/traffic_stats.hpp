@@ -100,7 +100,8 @@ struct SlaveStats {
   std::uint64_t line_errors = 0;
   std::array<std::uint64_t, kLengthClasses> frames_by_length{};
   std::array<std::uint64_t, kLengthClasses> crc_by_length{};
-  std::string device;  // model, when a device map knows this slave
+  std::string device;              // model, when a device map knows this slave
+  bool device_identified = false;  // recognised from the traffic, not configured
 };
 
 struct RequestKind {

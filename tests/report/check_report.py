@@ -1,16 +1,19 @@
 #!/usr/bin/env python3
 """Runs `rtuscope report` on one capture and checks what a user would rely on.
 
+Options in <capture>.args (--device, --bus, relative to the source tree) are passed on.
 Without --browser: the JSON report has every documented key and consistent numbers, the
 text report shows the same totals, the HTML report is one self-contained file (no script,
 nothing fetched) carrying the same numbers, and --csv writes the header and well-formed
 rows. With --browser: Debian's chromium loads the HTML headless, and the DOM it renders
-shows the totals computed by the JSON report; a screenshot is taken and must not be empty.
+shows the totals computed by the JSON report and a chart for every changing point (named
+device points where a slave's model is known); a screenshot is taken and must not be empty.
 Exit 77 (skipped) when --browser is given and chromium is not installed.
 """
 import json
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -34,8 +37,11 @@ def fail(message):
     sys.exit(1)
 
 
+SOURCE_DIR = None  # where the .args paths start
+
+
 def run(cmd):
-    result = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    result = subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=SOURCE_DIR)
     if result.returncode != 0:
         fail(f"{' '.join(cmd)} exited {result.returncode}: {result.stderr}")
     return result.stdout
@@ -108,23 +114,54 @@ def check_numbers(html, report, what):
                  f"{slave['requests']}/{slave['responses']}")
 
 
+RAW_POINT = re.compile(r"(holding|input|coil|discrete) 0x[0-9A-F]{4}")
+MAX_POINT_CHARTS = 60  # report_html.cpp: kMaxPointCharts
+
+
+def check_point_charts(dom, report):
+    """Every changing point (up to the chart limit) has its chart; where a slave's model is
+    known, its named device points are among them."""
+    changing = [p for p in report["points"] if p["changes"] > 0][:MAX_POINT_CHARTS]
+    for p in changing:
+        label = f'aria-label="slave {p["slave"]} {p["point"]} over time"'
+        if html_escape(label) not in dom and label not in dom:
+            fail(f"chromium DOM has no chart for slave {p['slave']} point {p['point']!r}")
+    known = {int(a) for a, s in report["slaves"].items() if s["device"] is not None}
+    named = [p for p in changing if p["slave"] in known and not RAW_POINT.fullmatch(p["point"])]
+    if known and not named:
+        fail(f"slaves {sorted(known)} have a device model but no named point chart")
+    return len(changing), len(named)
+
+
+def html_escape(text):
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
 def main():
+    global SOURCE_DIR
     args = sys.argv[1:]
     browser = args and args[0] == "--browser"
     if browser:
         args = args[1:]
     rtuscope, capture = args
+    rtuscope = os.path.abspath(rtuscope)
+    capture = os.path.abspath(capture)
+    SOURCE_DIR = os.path.dirname(os.path.dirname(capture))
+    options = []
+    args_path = re.sub(r"\.[^.]+$", ".args", capture)
+    if os.path.exists(args_path):
+        options = shlex.split(open(args_path, encoding="utf-8").read())
     work = tempfile.mkdtemp(prefix="rtuscope-report-")
     try:
-        report = json.loads(run([rtuscope, "report", capture, "--format", "json"]))
+        report = json.loads(run([rtuscope, "report", capture, "--format", "json"] + options))
         html_path = os.path.join(work, "report.html")
         csv_path = os.path.join(work, "values.csv")
         run([rtuscope, "report", capture, "--format", "html", "-o", html_path,
-             "--csv", csv_path])
+             "--csv", csv_path] + options)
         html = open(html_path, encoding="utf-8").read()
         if not browser:
             check_json(report)
-            text = run([rtuscope, "report", capture])
+            text = run([rtuscope, "report", capture] + options)
             t = report["totals"]
             if f"frames            {t['frames']} " not in text:
                 fail("text report does not show the frame total")
@@ -160,13 +197,15 @@ def main():
         check_numbers(dom.stdout, report, "chromium DOM")
         if dom.stdout.count("<svg") < 2:
             fail("chromium DOM shows fewer than two charts")
+        charts, named = check_point_charts(dom.stdout, report)
         png = os.path.join(work, "report.png")
         shot = subprocess.run(flags + ["--hide-scrollbars", "--window-size=1280,2000",
                                        f"--screenshot={png}", url],
                               capture_output=True, text=True, timeout=240, check=False)
         if shot.returncode != 0 or not os.path.exists(png) or os.path.getsize(png) < 20000:
             fail(f"chromium screenshot missing or empty: {shot.stderr[-2000:]}")
-        print(f"ok: chromium renders {capture} with the JSON report's numbers")
+        print(f"ok: chromium renders {capture} with the JSON report's numbers and {charts} "
+              f"point charts ({named} named device points)")
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

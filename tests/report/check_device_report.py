@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""`rtuscope report` on a simulated device capture (captures/sim_<model>.hex): the slaves
+are named and their register values named and scaled by the device maps.
+
+With the capture's options (<name>.args: --device or --bus) every slave shows the model
+the options give, marked "configured"; the CSV export holds exactly the values `rtuscope
+decode` shows for the same options (point name, value, unit, at the response's time), and
+the JSON points agree with the CSV. Without any option the same models are identified
+from the traffic, marked "identified", and the CSV is the same. Run from the source tree
+(the .args name files relative to it).
+"""
+import csv
+import json
+import os
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+
+
+def fail(message):
+    print("FAIL:", message)
+    sys.exit(1)
+
+
+def run(cmd):
+    result = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if result.returncode != 0:
+        fail(f"{' '.join(cmd)} exited {result.returncode}: {result.stderr}")
+    return result.stdout
+
+
+def configured_models(args):
+    """slave → model from --device ADDR=MODEL and the [slaves] of a --bus file."""
+    models = {}
+    for i, a in enumerate(args):
+        if a == "--device":
+            addr, model = args[i + 1].split("=", 1)
+            models[addr] = model
+        if a == "--bus":
+            in_slaves = False
+            for line in open(args[i + 1], encoding="utf-8"):
+                line = line.split("#", 1)[0].strip()
+                if line.startswith("["):
+                    in_slaves = line == "[slaves]"
+                elif in_slaves and "=" in line:
+                    addr, model = line.split("=", 1)
+                    models[addr.strip()] = model.strip().strip('"')
+    return models
+
+
+def decoded_values(rtuscope, capture, args):
+    """(time, slave, point, value, unit) that `decode` shows for confirmed exchanges:
+    reads on their response, writes (registers decoded on the request) at the response."""
+    out = []
+    requests = {}
+    for line in run([rtuscope, "decode", capture, "--format", "jsonl"] + args).splitlines():
+        rec = json.loads(line)
+        if rec.get("kind") != "frame" or not rec.get("crc_ok"):
+            continue
+        if rec.get("role") == "request":
+            requests[rec.get("txn")] = rec
+            continue
+        if rec.get("role") != "response" or rec.get("exception") is not None:
+            continue
+        fc = rec["fc"]
+        source = rec if fc in (1, 2, 3, 4) else requests.get(rec.get("txn"), {})
+        if fc not in (1, 2, 3, 4, 5, 6, 15, 16):
+            continue
+        t = f"{rec['t']:.9f}"[:-3]  # the CSV's six decimals, truncated
+        for reg in source.get("registers", []):
+            if reg.get("value") is None:  # spare, partial, or a scale nobody knows
+                continue
+            out.append((t, str(rec["slave"]), reg["name"], float(reg["value"]),
+                        reg.get("unit") or "", float(reg["value"]) != float(reg["raw"])))
+    return out
+
+
+def csv_values(path):
+    with open(path, encoding="utf-8", newline="") as f:
+        rows = list(csv.reader(f))
+    if rows[0] != ["time", "slave", "point", "value", "unit"]:
+        fail(f"CSV header is {rows[0]}")
+    return [(r[0], r[1], r[2], float(r[3]), r[4]) for r in rows[1:]]
+
+
+def same_values(a, b):
+    if len(a) != len(b):
+        return False
+    for x, y in zip(a, b):
+        if x[:3] != y[:3] or x[4] != y[4] or abs(x[3] - y[3]) > 1e-9 * max(1.0, abs(x[3])):
+            return False
+    return True
+
+
+def report(rtuscope, capture, args, work, tag):
+    csv_path = os.path.join(work, f"{tag}.csv")
+    js = json.loads(run([rtuscope, "report", capture, "--format", "json", "--csv", csv_path]
+                        + args))
+    return js, csv_values(csv_path)
+
+
+def main():
+    rtuscope, capture = sys.argv[1:]
+    args_path = re.sub(r"\.[^.]+$", ".args", capture)
+    if not os.path.exists(args_path):
+        fail(f"{capture} has no {args_path}")
+    args = shlex.split(open(args_path, encoding="utf-8").read())
+    models = configured_models(args)
+    if not models:
+        fail(f"{args_path} names no slave")
+    work = tempfile.mkdtemp(prefix="rtuscope-device-report-")
+
+    js, rows = report(rtuscope, capture, args, work, "configured")
+    for addr, model in models.items():
+        slave = js["slaves"].get(addr)
+        if slave is None:
+            fail(f"no slave {addr} in the report")
+        if slave["device"] != model or slave["device_model_source"] != "configured":
+            fail(f"slave {addr}: device {slave['device']!r} ({slave['device_model_source']}),"
+                 f" expected {model!r} (configured)")
+    decoded = decoded_values(rtuscope, capture, args)
+    expected = [d[:5] for d in decoded]
+    scaled = sorted({d[2] for d in decoded if d[5]})  # value differs from the raw register
+    if not expected:
+        fail("decode shows no named value for this capture")
+    if not same_values(rows, expected):
+        diff = next((i for i, (x, y) in enumerate(zip(rows, expected)) if x != y),
+                    min(len(rows), len(expected)))
+        fail(f"CSV ({len(rows)} values) differs from decode ({len(expected)}) at value {diff}: "
+             f"{rows[diff:diff + 1]} vs {expected[diff:diff + 1]}")
+    if any(re.fullmatch(r"(holding|input|coil|discrete) 0x[0-9A-F]{4}", r[2]) for r in rows):
+        fail("a mapped slave's values are still raw registers")
+    # The JSON points summarise the same values.
+    for p in js["points"]:
+        mine = [r for r in rows if r[1] == str(p["slave"]) and r[2] == p["point"]]
+        if len(mine) != p["samples"] or mine[-1][4] != p["unit"]:
+            fail(f"JSON point {p} does not match its {len(mine)} CSV rows")
+        if abs(mine[-1][3] - p["last"]) > 1e-9 * max(1.0, abs(p["last"])):
+            fail(f"JSON point {p['point']} last {p['last']} != CSV {mine[-1][3]}")
+        if min(r[3] for r in mine) != p["min"] or max(r[3] for r in mine) != p["max"]:
+            fail(f"JSON point {p['point']} min/max differ from the CSV")
+    units = sorted({r[4] for r in rows if r[4]})
+
+    # Without options: the same models, identified, and the same values.
+    js_id, rows_id = report(rtuscope, capture, [], work, "identified")
+    for addr, model in models.items():
+        slave = js_id["slaves"][addr]
+        if slave["device"] != model or slave["device_model_source"] != "identified":
+            fail(f"slave {addr} without options: {slave['device']!r} "
+                 f"({slave['device_model_source']}), expected {model!r} (identified)")
+    if not same_values(rows_id, rows):
+        fail("identified models give other values than configured ones")
+    text = run([rtuscope, "report", capture])
+    for addr, model in models.items():
+        if not re.search(rf"^\s+{addr} {re.escape(model)}\*\s", text, re.M):
+            fail(f"text report does not show slave {addr} as {model}* (identified)")
+    print(f"ok: {capture}: models {models}, {len(rows)} values as decode shows them, "
+          f"scaled: {scaled}, units {units}; identified without options")
+
+
+if __name__ == "__main__":
+    main()

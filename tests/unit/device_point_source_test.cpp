@@ -1,0 +1,239 @@
+// The report's PointSource for known devices, with the bundled maps of dissectors/: named,
+// scaled points with units for mapped slaves, raw registers for the others, values only
+// from confirmed, trustworthy exchanges; the identifier's confidence rule; and the time
+// axis labels of the HTML charts.
+#include "dissect/device_point_source.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "dissect/map_identifier.hpp"
+#include "dissect_test_support.hpp"
+#include "report/raw_register_source.hpp"
+#include "report/svg_chart.hpp"
+
+namespace rtu::dissect::testing {
+namespace {
+
+struct Sample {
+  Nanos t = 0;
+  unsigned slave = 0;
+  std::string point;
+  double value = 0.0;
+  std::string unit;
+};
+
+class Collect : public PointSink {
+ public:
+  void on_point(const PointSample& s) override {
+    samples.push_back({s.t, s.slave, std::string(s.point), s.value, std::string(s.unit)});
+  }
+  [[nodiscard]] const Sample* find(std::string_view point) const {
+    for (const auto& s : samples) {
+      if (s.point == point) return &s;
+    }
+    return nullptr;
+  }
+  std::vector<Sample> samples;
+};
+
+// Runs request/response pairs (hex without CRC) through a source, like the pipeline would:
+// the response points at its request and starts later.
+class Exchange {
+ public:
+  explicit Exchange(PointSource& source) : source_(source) {}
+  void run(std::string_view request_hex, std::string_view response_hex) {
+    request_ = made_frame(request_hex, Role::kRequest, seq_++);
+    request_.t_start = t_;
+    source_.extract(request_, sink);
+    Record response = made_frame(response_hex, Role::kResponse, seq_++);
+    response.t_start = t_ + 20 * kNanosPerMilli;
+    response.request = &request_;
+    source_.extract(response, sink);
+    t_ += kNanosPerSecond;
+  }
+  // A request nobody answers: it carries no confirmed value.
+  void request_only(std::string_view request_hex) {
+    request_ = made_frame(request_hex, Role::kRequest, seq_++);
+    source_.extract(request_, sink);
+  }
+  Collect sink;
+
+ private:
+  PointSource& source_;
+  Record request_;
+  std::uint64_t seq_ = 0;
+  Nanos t_ = 5 * kNanosPerSecond;
+};
+
+// The only value collected must be `point` = `value` `unit`.
+void expect_only(const Collect& c, std::string_view point, double value, std::string_view unit) {
+  ASSERT_EQ(c.samples.size(), 1U);
+  EXPECT_EQ(c.samples[0].point, point);
+  EXPECT_DOUBLE_EQ(c.samples[0].value, value);
+  EXPECT_EQ(c.samples[0].unit, unit);
+}
+
+const DeviceMap& map(std::string_view model) {
+  const DeviceMap* m = bundled_maps().find(model);
+  if (m == nullptr) throw std::invalid_argument("no bundled map");
+  return *m;
+}
+
+// Slave 1 is a YW2050 named by the user; every other slave is raw registers.
+class MixedBus : public ::testing::Test {
+ protected:
+  MixedBus() { source.assign(1, map("yw2050"), ModelOrigin::kConfigured); }
+  RawRegisterSource raw;
+  DevicePointSource source{&raw};
+  Exchange ex{source};
+};
+
+TEST_F(MixedBus, Yw2050FrequencyIsNamedScaledAndInHertz) {
+  // F at byte address 0x0036, one register; raw 46816 × 0.00106813 Hz = 50.00558 Hz, given
+  // to the map's 3 decimals like `decode` shows it.
+  ex.run("01 03 00 36 00 01", "01 03 02 B6 E0");
+  expect_only(ex.sink, "F", 50.006, "Hz");
+  EXPECT_EQ(ex.sink.samples[0].slave, 1U);
+  // At the start of the response.
+  EXPECT_EQ(ex.sink.samples[0].t, 5 * kNanosPerSecond + 20 * kNanosPerMilli);
+  EXPECT_EQ(source.device_model(1), "yw2050");
+  EXPECT_FALSE(source.device_model_identified(1));
+}
+
+TEST(DevicePointSource, VoltagesScaleByThePtRatioLearnedFromTheTraffic) {
+  DevicePointSource source(nullptr);
+  source.assign(1, map("yw2050"), ModelOrigin::kConfigured);
+  Exchange ex(source);
+  ex.run("01 03 00 00 00 01", "01 03 02 59 C4");  // Ua raw 22980 × 0.01 V, PT default 1
+  ASSERT_NE(ex.sink.find("Ua"), nullptr);
+  EXPECT_NEAR(ex.sink.find("Ua")->value, 229.8, 1e-9);
+  EXPECT_EQ(ex.sink.find("Ua")->unit, "V");
+  ex.sink.samples.clear();
+  ex.run("01 03 03 0E 00 02", "01 03 04 00 0A 00 00");  // PT = 10 (low word first)
+  ASSERT_NE(ex.sink.find("PT"), nullptr);
+  EXPECT_DOUBLE_EQ(ex.sink.find("PT")->value, 10.0);
+  ex.sink.samples.clear();
+  ex.run("01 03 00 00 00 01", "01 03 02 59 C4");
+  ASSERT_NE(ex.sink.find("Ua"), nullptr);
+  EXPECT_NEAR(ex.sink.find("Ua")->value, 2298.0, 1e-9);
+}
+
+TEST(DevicePointSource, Th900SetValueLeavesTheSpareRegisterOut) {
+  DevicePointSource source(nullptr);
+  source.assign(3, map("th900"), ModelOrigin::kIdentified);
+  Exchange ex(source);
+  ex.run("03 03 00 00 00 02", "03 03 04 02 BC 00 00");
+  expect_only(ex.sink, "SV", 70.0, "");  // the manual does not say °C or °F
+  EXPECT_EQ(source.device_model(3), "th900");
+  EXPECT_TRUE(source.device_model_identified(3));
+}
+
+TEST_F(MixedBus, SlavesWithoutAMapGoToTheRawSource) {
+  ex.run("07 03 00 32 00 01", "07 03 02 12 34");
+  expect_only(ex.sink, "holding 0x0032", 0x1234, "");
+  EXPECT_EQ(source.device_model(7), "");
+
+  DevicePointSource without_fallback(nullptr);
+  Exchange none(without_fallback);
+  none.run("07 03 00 32 00 01", "07 03 02 12 34");
+  EXPECT_TRUE(none.sink.samples.empty());
+}
+
+TEST(DevicePointSource, WritesCountOnlyOnceConfirmed) {
+  DevicePointSource source(nullptr);
+  source.assign(3, map("th900"), ModelOrigin::kConfigured);
+  Exchange ex(source);
+  ex.request_only("03 06 00 00 03 E8");  // SV = 100.0, never answered
+  EXPECT_TRUE(ex.sink.samples.empty());
+  ex.run("03 06 00 00 03 E8", "03 06 00 00 03 E8");
+  expect_only(ex.sink, "SV", 100.0, "");
+}
+
+TEST(DevicePointSource, ExceptionsBadCrcAndUndefinedAddressesCarryNoValue) {
+  DevicePointSource source(nullptr);
+  source.assign(3, map("th900"), ModelOrigin::kConfigured);
+  Exchange ex(source);
+  ex.run("03 03 00 00 00 02", "03 83 02");  // exception
+  EXPECT_TRUE(ex.sink.samples.empty());
+  ex.run("03 03 00 01 00 01", "03 03 02 00 00");  // only SV's spare register
+  EXPECT_TRUE(ex.sink.samples.empty());
+  ex.run("03 03 00 15 00 01", "03 03 02 00 05");  // an address the map does not define
+  EXPECT_TRUE(ex.sink.samples.empty());
+
+  Record request = made_frame("03 03 00 00 00 02", Role::kRequest, 100);
+  Record response = made_frame("03 03 04 02 BC 00 00", Role::kResponse, 101);
+  response.storage[4] ^= 0x01;  // a bit flipped on the line: the CRC no longer fits
+  response.crc_ok = false;
+  response.request = &request;
+  Collect sink;
+  source.extract(response, sink);
+  EXPECT_TRUE(sink.samples.empty());
+}
+
+SlaveRanking ranking(std::uint64_t requests, std::vector<double> scores) {
+  SlaveRanking r;
+  r.slave = 1;
+  r.requests = requests;
+  const auto& maps = bundled_maps().maps();
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    MapEvidence e;
+    e.map = maps[i % maps.size()].get();
+    e.score = scores[i];
+    r.maps.push_back(e);
+  }
+  return r;
+}
+
+TEST(ConfidentMap, NeedsEnoughRequestsAHighScoreAndAClearLead) {
+  EXPECT_NE(confident_map(ranking(24, {100.0, 35.1, 0.0})), nullptr);
+  EXPECT_EQ(confident_map(ranking(24, {100.0, 35.1})), bundled_maps().maps()[0].get());
+  EXPECT_NE(confident_map(ranking(24, {100.0, 99.0})), nullptr);  // one undefined address
+  EXPECT_EQ(confident_map(ranking(24, {100.0, 99.8})), nullptr);  // two maps fit as well
+  EXPECT_EQ(confident_map(ranking(6, {100.0, 0.0})), nullptr);    // too few requests
+  EXPECT_EQ(confident_map(ranking(15, {59.6, 53.7})), nullptr);   // several models on one address
+  EXPECT_EQ(confident_map(ranking(24, {})), nullptr);
+}
+
+TEST(TimeAxis, SecondsFromTheStartOnRoundSteps) {
+  const svg::TimeAxis axis = svg::time_axis(0, 3.707, 4);
+  EXPECT_FALSE(axis.wall_clock);
+  EXPECT_EQ(axis.labels, (std::vector<std::string>{"0", "1 s", "2 s", "3 s"}));
+  EXPECT_EQ(axis.ticks, (std::vector<double>{0, 1, 2, 3}));
+
+  const svg::TimeAxis long_run = svg::time_axis(12 * kNanosPerSecond, 5400, 4);
+  EXPECT_EQ(long_run.labels,
+            (std::vector<std::string>{"0", "30 min", "1 h", "1 h 30"}));  // 30 min steps
+
+  const svg::TimeAxis short_run = svg::time_axis(0, 0.35, 4);
+  EXPECT_EQ(short_run.labels, (std::vector<std::string>{"0", "0.1 s", "0.2 s", "0.3 s"}));
+}
+
+TEST(TimeAxis, WallClockTicksSitOnRoundTimesOfDay) {
+  // 2026-11-23 08:15:04.5 UTC
+  const Nanos start = 1'795'421'704 * kNanosPerSecond + 500 * kNanosPerMilli;
+  ASSERT_TRUE(svg::is_wall_clock(start));
+  EXPECT_EQ(svg::date_time_text(start), "2026-11-23 08:15:04");
+  const svg::TimeAxis axis = svg::time_axis(start, 600, 5);
+  EXPECT_TRUE(axis.wall_clock);
+  EXPECT_EQ(axis.labels, (std::vector<std::string>{"08:16", "08:18", "08:20", "08:22", "08:24"}));
+  EXPECT_NEAR(axis.ticks.front(), 55.5, 1e-9);  // 08:16:00 is 55.5 s after the start
+  const svg::TimeAxis seconds = svg::time_axis(start, 20, 4);
+  EXPECT_EQ(seconds.labels.front(), "08:15:05");
+  EXPECT_EQ(seconds.labels[1], "08:15:10");
+}
+
+TEST(AxisLabel, DigitsFollowTheStepAndLargeValuesShrink) {
+  EXPECT_EQ(svg::axis_label(49.98, 0.01, 50.0), "49.98");
+  EXPECT_EQ(svg::axis_label(50.0, 0.01, 50.0), "50.00");
+  EXPECT_EQ(svg::axis_label(0.4, 0.2, 0.4), "0.4");
+  EXPECT_EQ(svg::axis_label(0.0, 0.2, 0.4), "0");
+  EXPECT_EQ(svg::axis_label(5e6, 5e6, 1e7), "5M");
+  EXPECT_EQ(svg::axis_label(20000, 10000, 20000), "20k");
+  EXPECT_EQ(svg::axis_label(250, 50, 250), "250");
+}
+
+}  // namespace
+}  // namespace rtu::dissect::testing

@@ -35,6 +35,12 @@ bool DevicePointSource::device_model_identified(std::uint8_t slave) const {
   return slaves_[slave].map != nullptr && slaves_[slave].origin == ModelOrigin::kIdentified;
 }
 
+std::string_view DevicePointSource::device_exception_name(std::uint8_t slave,
+                                                          std::uint8_t code) const {
+  const DeviceMap* map = slaves_[slave].map;
+  return map == nullptr ? std::string_view{} : map->exception_name(code);
+}
+
 void DevicePointSource::extract(const Record& frame, PointSink& sink) {
   if (frame.kind != RecordKind::kFrame || frame.size < 4) return;
   Slave& slave = slaves_[frame.slave()];

@@ -38,6 +38,8 @@ class DevicePointSource : public PointSource {
   void extract(const Record& frame, PointSink& sink) override;
   [[nodiscard]] std::string_view device_model(std::uint8_t slave) const override;
   [[nodiscard]] bool device_model_identified(std::uint8_t slave) const override;
+  [[nodiscard]] std::string_view device_exception_name(std::uint8_t slave,
+                                                       std::uint8_t code) const override;
 
  private:
   struct Slave {

@@ -340,14 +340,23 @@ void exception_rule(const TrafficStats& stats, Builder& b) {
     const std::string what =
         kind.has_range ? fmt::format("FC{:02d} at 0x{:04X} ×{}", kind.function, kind.addr, kind.qty)
                        : fmt::format("FC{:02d}", kind.function);
-    f.summary =
-        fmt::format("slave {} answered {} of {} requests {} with exception {} ({})", kind.slave,
-                    k.exceptions, k.responses, what, code, exception_name(code));
-    f.cause = code == 0x02 || code == 0x01 || code == 0x03
-                  ? "the master asks for registers or a function this device does not have: its "
-                    "register map in the master does not fit the device"
-                  : "the device refuses this request (busy or failing): see its manual for this "
-                    "exception";
+    // A device with its own exception table (its map says so) means something else by 01-03.
+    const SlaveStats* slave = stats.slave(kind.slave);
+    const bool vendor = slave != nullptr && slave->device_exception_names.count(code) > 0;
+    const std::string_view name =
+        slave != nullptr ? slave->exception_name(code) : exception_name(code);
+    f.summary = fmt::format("slave {} answered {} of {} requests {} with exception {} ({})",
+                            kind.slave, k.exceptions, k.responses, what, code, name);
+    if (vendor) {
+      f.cause = fmt::format("the {} reports its own exception {:02X} ({}): see its manual",
+                            slave->device, code, name);
+    } else {
+      f.cause = code == 0x02 || code == 0x01 || code == 0x03
+                    ? "the master asks for registers or a function this device does not have: "
+                      "its register map in the master does not fit the device"
+                    : "the device refuses this request (busy or failing): see its manual for "
+                      "this exception";
+    }
     ev(f, "exceptions", static_cast<double>(k.exceptions));
     ev(f, "responses", static_cast<double>(k.responses));
     ev(f, "exception_code", code);

@@ -37,6 +37,14 @@ class PointSource {
     (void)slave;
     return {};
   }
+  // The device's own meaning of an exception code (a vendor table, e.g. YAKOTEC's 01 = CRC
+  // error), or empty where the standard meaning applies.
+  [[nodiscard]] virtual std::string_view device_exception_name(std::uint8_t slave,
+                                                               std::uint8_t code) const {
+    (void)slave;
+    (void)code;
+    return {};
+  }
   // Whether that model was recognised from the traffic rather than configured by the user.
   [[nodiscard]] virtual bool device_model_identified(std::uint8_t slave) const {
     (void)slave;

@@ -368,7 +368,7 @@ void slave_table(Out& o, const TrafficStats& stats) {
       put(o,
           "<tr><td></td><td class=\"l\" colspan=\"14\" style=\"color:var(--muted)\">exception "
           "{:02X} {} &times;{}</td></tr>",
-          code, escaped(exception_name(code)), n);
+          code, escaped(s->exception_name(code)), n);
     }
   }
   put(o, "</tbody></table></div></section>");

@@ -143,7 +143,7 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   for (const auto& [code, n] : s.exception_codes) {
     j.begin_object();
     j.field("code", static_cast<unsigned>(code));
-    j.field("name", exception_name(code));
+    j.field("name", s.exception_name(code));
     j.field("count", n);
     j.end_object();
   }

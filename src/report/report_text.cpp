@@ -71,7 +71,7 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
          s->responses, s->exceptions, s->timeouts, s->crc_errors, s->unsolicited,
          latency_text(s->latency));
     for (const auto& [code, n] : s->exception_codes) {
-      line(o, "        exception {:02X} {} ×{}", code, exception_name(code), n);
+      line(o, "        exception {:02X} {} ×{}", code, s->exception_name(code), n);
     }
   }
   if (any_identified) {

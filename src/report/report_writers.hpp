@@ -12,14 +12,14 @@
 //              overrun}, t1_5_pauses, t3_5_violations, timing_resolution_ms, slaves,
 //              request_kinds, request_kinds_overflow, points, points_overflow}
 //   slaves    {"<addr>": {device (model, null when unknown), device_model_source
-//              ("configured" by --device/--bus, "identified" from the traffic, null), requests, responses, exceptions,
-//              exceptions_by_code [{code, name, count}], timeouts, late_responses,
-//              crc_errors, unsolicited, wrong_slave, after_next_request, frames, bytes,
-//              line_errors, latency_ms {min, p50, p95, p99, max, mean} (null when no
-//              answer was timed), latency_samples, function_codes [{fc, name, count}],
-//              poll_periods [{fc, function, addr, qty (null for functions without a
-//              range), count, responses, exceptions, timeouts, period_ms {min, p50, p95,
-//              max} (null below two requests)}], timing {t1_5_pauses_requests,
+//              ("configured" by --device/--bus, "identified" from the traffic, null), requests,
+//              responses, exceptions, exceptions_by_code [{code, name (the device map's own meaning
+//              where it has one), count}], timeouts, late_responses, crc_errors, unsolicited,
+//              wrong_slave, after_next_request, frames, bytes, line_errors, latency_ms {min, p50,
+//              p95, p99, max, mean} (null when no answer was timed), latency_samples,
+//              function_codes [{fc, name, count}], poll_periods [{fc, function, addr, qty (null for
+//              functions without a range), count, responses, exceptions, timeouts, period_ms {min,
+//              p50, p95, max} (null below two requests)}], timing {t1_5_pauses_requests,
 //              t1_5_pauses_responses, t3_5_responses_too_soon, t3_5_requests_too_soon,
 //              turnaround_glitches}, timeout_fit [{timeout_ms, lost, lost_pct}]}}
 //   timing    {t1_5_observable, t3_5_observable, t1_5_pauses, t3_5_violations,

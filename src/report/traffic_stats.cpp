@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/chunk.hpp"
+#include "modbus/function_codes.hpp"
 
 namespace rtu {
 
@@ -59,6 +60,12 @@ void PointBucket::merge(const PointBucket& o) {
   max = std::max(max, o.max);
   last = o.last;  // `o` is the later bucket of the pair
   count += o.count;
+}
+
+std::string_view SlaveStats::exception_name(std::uint8_t code) const {
+  const auto it = device_exception_names.find(code);
+  return it != device_exception_names.end() ? std::string_view(it->second)
+                                            : rtu::exception_name(code);
 }
 
 TrafficStats::TrafficStats(PointSource* points, PointSink* also)
@@ -368,6 +375,10 @@ void TrafficStats::on_finish() {
     slaves_[a]->device = point_source_->device_model(address);
     slaves_[a]->device_identified =
         !slaves_[a]->device.empty() && point_source_->device_model_identified(address);
+    for (const auto& [code, n] : slaves_[a]->exception_codes) {
+      const std::string_view name = point_source_->device_exception_name(address, code);
+      if (!name.empty()) slaves_[a]->device_exception_names[code] = std::string(name);
+    }
   }
 }
 

@@ -102,6 +102,12 @@ struct SlaveStats {
   std::array<std::uint64_t, kLengthClasses> crc_by_length{};
   std::string device;              // model, when a device map knows this slave
   bool device_identified = false;  // recognised from the traffic, not configured
+  // Codes of exception_codes whose meaning the device's map gives itself (vendor table).
+  std::map<std::uint8_t, std::string> device_exception_names;
+
+  // The meaning of an exception code this slave answered with (exception_codes): its
+  // device's own, else the standard one.
+  [[nodiscard]] std::string_view exception_name(std::uint8_t code) const;
 };
 
 struct RequestKind {

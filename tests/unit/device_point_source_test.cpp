@@ -11,8 +11,10 @@
 
 #include "dissect/map_identifier.hpp"
 #include "dissect_test_support.hpp"
+#include "report/findings.hpp"
 #include "report/raw_register_source.hpp"
 #include "report/svg_chart.hpp"
+#include "report/traffic_stats.hpp"
 
 namespace rtu::dissect::testing {
 namespace {
@@ -171,6 +173,41 @@ TEST(DevicePointSource, ExceptionsBadCrcAndUndefinedAddressesCarryNoValue) {
   Collect sink;
   source.extract(response, sink);
   EXPECT_TRUE(sink.samples.empty());
+}
+
+TEST(DevicePointSource, ReportsUseTheDevicesOwnExceptionMeanings) {
+  RawRegisterSource raw;
+  DevicePointSource source(&raw);
+  source.assign(4, map("yakotec"), ModelOrigin::kConfigured);
+  TrafficStats stats(&source);
+  std::uint64_t seq = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (const unsigned slave : {4U, 5U}) {
+      // Each slave answers a read with exception 01: YAKOTEC means a CRC error by it.
+      Record request =
+          made_frame(fmt::format("{:02X} 03 00 0A 00 02", slave), Role::kRequest, seq++);
+      Record response = made_frame(fmt::format("{:02X} 83 01", slave), Role::kResponse, seq++);
+      request.t_start = static_cast<Nanos>(seq) * kNanosPerSecond;
+      response.t_start = request.t_start + 20 * kNanosPerMilli;
+      response.request = &request;
+      stats.on_record(request);
+      stats.on_record(response);
+    }
+  }
+  stats.on_finish();
+  ASSERT_NE(stats.slave(4), nullptr);
+  EXPECT_EQ(stats.slave(4)->device, "yakotec");
+  EXPECT_EQ(stats.slave(4)->exception_name(1), "CRC error");
+  ASSERT_NE(stats.slave(5), nullptr);
+  EXPECT_EQ(stats.slave(5)->device, "");
+  EXPECT_EQ(stats.slave(5)->exception_name(1), "ILLEGAL FUNCTION");
+
+  std::vector<std::string> causes(256);
+  for (const Finding& f : find_problems(stats)) {
+    if (f.key == "exceptions_for_request" && f.slave) causes[*f.slave] = f.cause;
+  }
+  EXPECT_EQ(causes[4], "the yakotec reports its own exception 01 (CRC error): see its manual");
+  EXPECT_NE(causes[5].find("register map in the master"), std::string::npos) << causes[5];
 }
 
 SlaveRanking ranking(std::uint64_t requests, std::vector<double> scores) {

@@ -31,6 +31,7 @@ header{background:#17324d;color:#fff;padding:22px 36px 18px}
 header h1{margin:0 0 4px;font-size:22px;font-weight:600;letter-spacing:.2px}
 header .meta{color:#c8d6e5;font-size:13px}
 main{max-width:1180px;margin:0 auto;padding:20px 28px 48px}
+@media (max-width:600px){main{padding:12px 8px 32px}section{padding:12px 10px}header{padding:16px 14px}table.kv{min-width:0}}
 section{background:var(--card);border:1px solid var(--line);border-radius:6px;margin:18px 0;padding:16px 20px}
 h2{font-size:16px;margin:0 0 12px;color:#17324d;font-weight:600}
 h3{font-size:13px;margin:0 0 6px;color:var(--muted);font-weight:600}
@@ -72,8 +73,8 @@ svg .util{fill:#1f6fb2;fill-opacity:.18;stroke:#1f6fb2;stroke-width:1.2}
 svg .bar{fill:#1f6fb2}svg .pct{stroke-width:1;stroke-dasharray:3 2}
 svg .band{fill:#1f6fb2;fill-opacity:.15}svg .val{fill:none;stroke:#1f6fb2;stroke-width:1.3}
 svg .lane{fill:#f4f6f8}svg .lanelab{text-anchor:end}
-.grid2{display:grid;grid-template-columns:repeat(auto-fill,minmax(340px,1fr));gap:14px}
-.grid3{display:grid;grid-template-columns:repeat(auto-fill,minmax(270px,1fr));gap:12px}
+.grid2{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(340px,100%),1fr));gap:14px}
+.grid3{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(270px,100%),1fr));gap:12px}
 .small{border:1px solid var(--line);border-radius:5px;padding:8px 10px;background:#fbfcfd}
 .legend span{display:inline-block;margin-right:14px;font-size:12px;color:var(--muted)}
 .legend i{display:inline-block;width:10px;height:10px;margin-right:5px;vertical-align:-1px;border-radius:2px}
@@ -551,8 +552,11 @@ void points_section(Out& o, const TrafficStats& stats) {
     const auto yt = svg::nice_ticks(p.min, p.max, 3);
     f.y_lo = std::min(f.y_lo, yt.front());
     f.y_hi = std::max(f.y_hi, yt.back());
-    put(o, "<div class=\"small\"><h3>slave {} &middot; {}{}{}</h3>", key.first, escaped(key.second),
-        p.unit.empty() ? "" : " &middot; ", escaped(p.unit));
+    const SlaveStats* slave = stats.slave(key.first);
+    const bool model = slave != nullptr && !slave->device.empty();
+    put(o, "<div class=\"small\"><h3>slave {}{}{}{} &middot; {}{}{}</h3>", key.first,
+        model ? " (" : "", model ? escaped(slave->device) : "", model ? ")" : "",
+        escaped(key.second), p.unit.empty() ? "" : " &middot; ", escaped(p.unit));
     svg::open(o, f, fmt::format("slave {} {} over time", key.first, key.second), "point");
     svg::y_axis(o, f, yt, "");
     svg::x_axis(o, f, xt.ticks, xt.labels);

@@ -122,9 +122,8 @@ std::string since_start(Nanos t, Nanos step) {
 }  // namespace
 
 bool is_wall_clock(Nanos t_ns) {
-  constexpr Nanos kYear2000 = 946'684'800LL * kNs;
-  constexpr Nanos kYear2200 = 7'258'118'400LL * kNs;
-  return t_ns >= kYear2000 && t_ns < kYear2200;
+  // From 10^9 s (2001-09-09): no capture counting from zero runs for 31 years.
+  return t_ns >= 1'000'000'000 * kNs;
 }
 
 std::string date_time_text(Nanos t_ns) {

@@ -32,7 +32,7 @@ struct TimeAxis {
   [[nodiscard]] std::string_view caption() const;  // "time of day (UTC)", "time from start"
 };
 TimeAxis time_axis(Nanos origin_ns, double span, int target);
-// Whether a time on the input's clock looks like Unix time (years 2000 to 2200): pcap and
+// Whether a time on the input's clock is Unix time (from 2001-09-09 on): pcap and
 // live captures stamp wall-clock time; text captures usually count from zero.
 bool is_wall_clock(Nanos t_ns);
 // "2026-11-23 08:15:04" (UTC) for a wall-clock time.

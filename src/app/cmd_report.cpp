@@ -24,6 +24,7 @@ struct ReportArgs {
   std::string csv;
   LineOptions line;
   DeviceOptions devices;
+  bool no_identify = false;
 };
 
 void setup_report(CLI::App& app, int& exit_code) {
@@ -39,12 +40,19 @@ void setup_report(CLI::App& app, int& exit_code) {
                   "Also write register values over time as CSV (time,slave,point,value,unit)");
   args->line.add_to(*cmd);
   args->devices.add_to(*cmd);
+  cmd->add_flag("--no-identify", args->no_identify,
+                "Do not recognise unnamed slaves' models from the traffic (saves a pass over "
+                "the file); they keep raw registers");
   cmd->callback([args, &exit_code] {
     ReplayOptions options = args->line.to_replay_options();
     // Slaves no option names are identified from a first look at the whole capture.
-    const auto points = build_report_points(
-        args->devices, options,
-        [&](const ReplayOptions& o, RecordSink& sink) { replay_capture(args->file, o, sink); });
+    TrafficFeed identify;
+    if (!args->no_identify) {
+      identify = [&](const ReplayOptions& o, RecordSink& sink) {
+        replay_capture(args->file, o, sink);
+      };
+    }
+    const auto points = build_report_points(args->devices, options, identify);
     std::optional<OutputStream> csv_out;
     std::optional<PointCsvWriter> csv;
     if (!args->csv.empty()) {

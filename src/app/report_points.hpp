@@ -31,6 +31,9 @@ struct ReportPoints {
 using TrafficFeed = std::function<void(const ReplayOptions& options, RecordSink& sink)>;
 
 // Builds the point source. Fills in `options` from a bus file like DeviceOptions::build.
+// The annotator in `maps` knows the configured slaves too, for the frame writers. A live
+// run has no traffic to show in advance and passes no feed: only configured slaves are
+// named there.
 // When `identify` is given, it runs once with a MapIdentifier before this returns (reader
 // warnings off; an InputError in it is left for the report pass to raise). Throws
 // InputError for bad device options or maps.

@@ -6,7 +6,8 @@ With the capture's options (<name>.args: --device or --bus) every slave shows th
 the options give, marked "configured"; the CSV export holds exactly the values `rtuscope
 decode` shows for the same options (point name, value, unit, at the response's time), and
 the JSON points agree with the CSV. Without any option the same models are identified
-from the traffic, marked "identified", and the CSV is the same. Run from the source tree
+from the traffic, marked "identified", and the CSV is the same; with --no-identify the
+slaves have no model and raw registers. Run from the source tree
 (the .args name files relative to it).
 """
 import csv
@@ -17,6 +18,9 @@ import shlex
 import subprocess
 import sys
 import tempfile
+
+
+RAW_POINT = re.compile(r"(holding|input|coil|discrete) 0x[0-9A-F]{4}")
 
 
 def fail(message):
@@ -130,7 +134,7 @@ def main():
                     min(len(rows), len(expected)))
         fail(f"CSV ({len(rows)} values) differs from decode ({len(expected)}) at value {diff}: "
              f"{rows[diff:diff + 1]} vs {expected[diff:diff + 1]}")
-    if any(re.fullmatch(r"(holding|input|coil|discrete) 0x[0-9A-F]{4}", r[2]) for r in rows):
+    if any(RAW_POINT.fullmatch(r[2]) for r in rows):
         fail("a mapped slave's values are still raw registers")
     # The JSON points summarise the same values.
     for p in js["points"]:
@@ -152,6 +156,13 @@ def main():
                  f"({slave['device_model_source']}), expected {model!r} (identified)")
     if not same_values(rows_id, rows):
         fail("identified models give other values than configured ones")
+    # --no-identify: no model, raw registers.
+    js_raw, rows_raw = report(rtuscope, capture, ["--no-identify"], work, "raw")
+    for addr in models:
+        if js_raw["slaves"][addr]["device"] is not None:
+            fail(f"slave {addr} has a model despite --no-identify")
+    if not rows_raw or not all(RAW_POINT.fullmatch(r[2]) for r in rows_raw):
+        fail("--no-identify does not leave raw registers")
     text = run([rtuscope, "report", capture])
     for addr, model in models.items():
         if not re.search(rf"^\s+{addr} {re.escape(model)}\*\s", text, re.M):

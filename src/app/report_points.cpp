@@ -29,12 +29,7 @@ std::unique_ptr<ReportPoints> build_report_points(const DeviceOptions& devices,
   } catch (const InputError&) {
     // Damaged input: identify from what precedes the damage; the report pass says where.
   }
-  for (const dissect::SlaveRanking& r : identifier.ranking()) {
-    if (points->source.map_of(r.slave) != nullptr) continue;  // configured wins
-    if (const dissect::DeviceMap* map = dissect::confident_map(r)) {
-      points->source.assign(r.slave, *map, dissect::ModelOrigin::kIdentified);
-    }
-  }
+  points->source.assign_identified(identifier.ranking());  // configured slaves keep theirs
   return points;
 }
 

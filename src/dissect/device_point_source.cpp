@@ -26,6 +26,13 @@ void DevicePointSource::assign(std::uint8_t slave, const DeviceMap& map, ModelOr
   s.state.reset(map);
 }
 
+void DevicePointSource::assign_identified(const std::vector<SlaveRanking>& ranking) {
+  for (const SlaveRanking& r : ranking) {
+    if (slaves_[r.slave].map != nullptr) continue;  // configured (or identified) already
+    if (const DeviceMap* map = confident_map(r)) assign(r.slave, *map, ModelOrigin::kIdentified);
+  }
+}
+
 std::string_view DevicePointSource::device_model(std::uint8_t slave) const {
   const DeviceMap* map = slaves_[slave].map;
   return map == nullptr ? std::string_view{} : std::string_view(map->model);

@@ -14,6 +14,7 @@
 #include <cstdint>
 
 #include "dissect/device_map.hpp"
+#include "dissect/map_identifier.hpp"
 #include "dissect/register_decoder.hpp"
 #include "report/point_source.hpp"
 
@@ -34,6 +35,10 @@ class DevicePointSource : public PointSource {
   // `map` must outlive the source (MapLibrary keeps maps at stable addresses).
   void assign(std::uint8_t slave, const DeviceMap& map, ModelOrigin origin);
   [[nodiscard]] const DeviceMap* map_of(std::uint8_t slave) const { return slaves_[slave].map; }
+  // Gives every slave without a map the one `ranking` names with confidence (confident_map),
+  // as identified. Works at any time: values from then on are named (a live run can call it
+  // before its report, so the model at least is shown).
+  void assign_identified(const std::vector<SlaveRanking>& ranking);
 
   void extract(const Record& frame, PointSink& sink) override;
   [[nodiscard]] std::string_view device_model(std::uint8_t slave) const override;

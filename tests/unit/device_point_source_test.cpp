@@ -224,6 +224,23 @@ SlaveRanking ranking(std::uint64_t requests, std::vector<double> scores) {
   return r;
 }
 
+TEST(DevicePointSource, IdentifiedModelsNeverReplaceConfiguredOnes) {
+  DevicePointSource source(nullptr);
+  source.assign(1, map("yw2300"), ModelOrigin::kConfigured);
+  SlaveRanking one = ranking(24, {100.0, 10.0});  // slave 1: the traffic says th900
+  SlaveRanking two = one;
+  two.slave = 2;
+  SlaveRanking three = ranking(24, {100.0, 99.9});
+  three.slave = 3;
+  source.assign_identified({one, two, three});
+  ASSERT_EQ(one.maps[0].map->model, "th900");
+  EXPECT_EQ(source.device_model(1), "yw2300");
+  EXPECT_FALSE(source.device_model_identified(1));
+  EXPECT_EQ(source.device_model(2), "th900");
+  EXPECT_TRUE(source.device_model_identified(2));
+  EXPECT_EQ(source.map_of(3), nullptr);  // not confident
+}
+
 TEST(ConfidentMap, NeedsEnoughRequestsAHighScoreAndAClearLead) {
   EXPECT_NE(confident_map(ranking(24, {100.0, 35.1, 0.0})), nullptr);
   EXPECT_EQ(confident_map(ranking(24, {100.0, 35.1})), bundled_maps().maps()[0].get());

@@ -98,6 +98,12 @@ void DecodePipeline::push_noise(std::span<const std::uint8_t> bytes, Nanos t_sta
   }
 }
 
+void DecodePipeline::idle(Nanos now) {
+  if (!impl_->started) return;
+  impl_->framer.idle(now);
+  impl_->tracker.idle(now);
+}
+
 void DecodePipeline::finish() {
   impl_->framer.finish();
   impl_->tracker.on_finish();

@@ -39,6 +39,10 @@ class DecodePipeline {
   // the framer would have emitted it.
   void push_noise(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
                   std::uint64_t origin);
+  // Live capture: the line has been quiet until `now` (input clock). Frames waiting for
+  // more bytes are decided after t3.5 + resolution of silence; requests older than the
+  // response timeout are released as timed out. Replays need not call it.
+  void idle(Nanos now);
   // Flushes partial frames and open transactions.
   void finish();
 

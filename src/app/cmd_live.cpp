@@ -1,0 +1,132 @@
+// rtuscope live PORT [PORT_B]: decodes a serial line as it happens (and records it with -w).
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <csignal>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/command.hpp"
+#include "capture/input_error.hpp"
+#include "pipeline/live_capture.hpp"
+#include "pipeline/pcapng_recorder.hpp"
+#include "report/jsonl_writer.hpp"
+#include "report/output_stream.hpp"
+#include "report/text_writer.hpp"
+
+namespace rtu::app {
+namespace {
+
+struct LiveArgs {
+  std::vector<std::string> ports;
+  std::uint32_t baud = 9600;
+  std::string parity = "E";
+  unsigned stop_bits = 1;
+  std::string format = "text";
+  std::string output = "-";
+  double timeout_ms = 1000.0;
+  double duration_s = 0.0;
+  std::string write_path;
+  std::string rotate;
+  std::size_t keep = 0;
+};
+
+void print_summary(const LiveSummary& s) {
+  fmt::print(stderr,
+             "rtuscope: {:.1f} s, {} bytes in {} reads: {} frames ({} with CRC errors, {} with "
+             "issues), {} transactions, {} timeouts, {} noise records, {} bytes with line "
+             "errors, {} disconnects\n",
+             to_seconds(s.duration), s.bytes, s.chunks, s.frames, s.crc_errors,
+             s.frames_with_issues, s.transactions, s.timeouts, s.noise_records, s.line_error_bytes,
+             s.disconnects);
+}
+
+void run_live(const LiveArgs& args, int& exit_code) {
+  LiveOptions options;
+  options.ports = args.ports;
+  options.line.baud = args.baud;
+  const auto parity = parse_parity(args.parity);
+  if (!parity)
+    throw InputError(fmt::format("--parity: expected N, E or O, found '{}'", args.parity));
+  options.line.parity = *parity;
+  options.line.stop_bits = static_cast<std::uint8_t>(args.stop_bits);
+  options.response_timeout = static_cast<Nanos>(args.timeout_ms * 1e6);
+  options.duration = static_cast<Nanos>(args.duration_s * 1e9);
+
+  OutputStream out(args.output);
+  std::unique_ptr<RecordSink> writer;
+  if (args.format == "jsonl") {
+    writer = std::make_unique<JsonlWriter>(out, nullptr, true);
+  } else {
+    writer = std::make_unique<TextWriter>(out, nullptr, true);
+  }
+
+  std::unique_ptr<PcapngRecorder> recorder;
+  if (!args.write_path.empty()) {
+    RotationPolicy rotation;
+    if (!args.rotate.empty()) rotation = parse_rotation(args.rotate);
+    rotation.keep = args.keep;
+    recorder = std::make_unique<PcapngRecorder>(args.write_path, rotation);
+  } else if (!args.rotate.empty() || args.keep != 0) {
+    throw InputError("--rotate and --keep need -w FILE.pcapng");
+  }
+
+  boost::asio::io_context io;
+  SystemClock clock;
+  LiveCapture capture(io, clock, options, *writer, recorder.get(),
+                      [](const std::string& m) { fmt::print(stderr, "rtuscope: {}\n", m); });
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& ec, int) {
+    if (!ec) capture.stop();
+  });
+  capture.start();
+  fmt::print(stderr, "rtuscope: listening on {} at {} (Ctrl-C to stop)\n", capture.info().source,
+             options.line.describe());
+  while (!capture.stopped()) io.run_one();
+  signals.cancel();
+  out.flush();
+  print_summary(capture.summary());
+  if (recorder) {
+    fmt::print(stderr, "rtuscope: {} records written to {}\n", recorder->records(),
+               fmt::join(recorder->files(), ", "));
+  }
+  exit_code = 0;
+}
+
+void setup_live(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<LiveArgs>();
+  auto* cmd = app.add_subcommand("live",
+                                 "Decode a serial line live (one port, or two for the "
+                                 "two directions of a link)");
+  cmd->add_option("ports", args->ports, "Serial port(s), e.g. /dev/ttyUSB0")
+      ->required()
+      ->expected(1, 2);
+  cmd->add_option("--baud", args->baud, "Baud rate, any value (default 9600)")
+      ->check(CLI::Range(50U, 20000000U));
+  cmd->add_option("--parity", args->parity, "Parity N|E|O (default E)");
+  cmd->add_option("--stop", args->stop_bits, "Stop bits 1|2 (default 1)")
+      ->check(CLI::IsMember({1U, 2U}));
+  cmd->add_option("--format", args->format, "Output format")
+      ->check(CLI::IsMember({"text", "jsonl"}));
+  cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
+  cmd->add_option("--timeout-ms", args->timeout_ms, "Response timeout in ms (default 1000)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--duration", args->duration_s,
+                  "Stop after this many seconds (default: run "
+                  "until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("-w,--write", args->write_path,
+                  "Record every read, exactly as read, to this pcapng file (LINKTYPE 250)");
+  cmd->add_option("--rotate", args->rotate,
+                  "Start a new file at this size or age (e.g. 100MB, 1h); files get -0001, ...");
+  cmd->add_option("--keep", args->keep, "With --rotate: keep only the newest N files");
+  cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
+}
+
+RTUSCOPE_REGISTER_COMMAND(setup_live);
+
+}  // namespace
+}  // namespace rtu::app

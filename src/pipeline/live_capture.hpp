@@ -1,0 +1,114 @@
+#pragma once
+// Live capture: one or two serial ports read with Boost.Asio, decoded as they arrive by the
+// same DecodePipeline that replays files, and optionally recorded chunk by chunk.
+//
+//  * Chunks of all ports are stamped on arrival on one CaptureClock and handled on one
+//    thread, so they reach the pipeline merged in time order. With two ports (the two
+//    directions of an RS-232/RS-422 link) each chunk keeps its port index for recorders.
+//  * A timer calls DecodePipeline::idle() every `idle_period`, so a frame is printed once
+//    the line has been quiet for t3.5 (+ the timing resolution), not when more bytes come.
+//  * A port that fails (USB adapter unplugged) is reported, recorded as a gap, and reopened
+//    every `reopen_period` until it comes back; the capture goes on.
+//  * stop() (SIGINT/SIGTERM in the command) closes the ports and flushes everything.
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framing/record.hpp"
+#include "pipeline/decode_pipeline.hpp"
+#include "serial/clock.hpp"
+#include "serial/serial_source.hpp"
+
+namespace rtu {
+
+// Receives everything read, exactly as read (e.g. a capture file writer).
+class ChunkRecorder {
+ public:
+  virtual ~ChunkRecorder() = default;
+  // Called once per port before any chunk: its name and settings as opened.
+  virtual void add_port(std::size_t port, const std::string& name, const LineSettings& line,
+                        const SerialStatus& status) = 0;
+  virtual void on_chunk(std::size_t port, const Chunk& chunk) = 0;
+  // The port stopped delivering at `t` (unplugged); bytes may have been lost until it
+  // comes back.
+  virtual void on_gap(std::size_t port, Nanos t, const std::string& reason) = 0;
+  // Called at least every second and at the end: makes what was recorded durable.
+  virtual void flush() = 0;
+};
+
+struct LiveOptions {
+  std::vector<std::string> ports;  // one or two
+  LineSettings line;
+  Nanos response_timeout = 1000 * kNanosPerMilli;
+  Nanos idle_period = 5 * kNanosPerMilli;
+  Nanos reopen_period = 1 * kNanosPerSecond;
+  Nanos flush_period = 500 * kNanosPerMilli;
+  Nanos duration = 0;  // stop by itself after this long; 0 = until stop()
+};
+
+struct LiveSummary {
+  std::uint64_t chunks = 0;
+  std::uint64_t bytes = 0;
+  std::uint64_t frames = 0;
+  std::uint64_t noise_records = 0;
+  std::uint64_t crc_errors = 0;
+  std::uint64_t transactions = 0;  // responses paired with their request
+  std::uint64_t timeouts = 0;
+  std::uint64_t frames_with_issues = 0;
+  std::uint64_t line_error_bytes = 0;
+  std::uint64_t disconnects = 0;
+  Nanos duration = 0;
+};
+
+class LiveCapture {
+ public:
+  // `notify` receives one-line messages for the user (port notes, unplug/replug).
+  using Notify = std::function<void(const std::string& message)>;
+
+  LiveCapture(boost::asio::io_context& io, Clock& clock, LiveOptions options, RecordSink& sink,
+              ChunkRecorder* recorder, Notify notify);
+  ~LiveCapture();
+  LiveCapture(const LiveCapture&) = delete;
+  LiveCapture& operator=(const LiveCapture&) = delete;
+
+  // Opens every port (throws SerialOpenError) and starts reading and the timers.
+  void start();
+  // Stops reading, decides what is pending, flushes. Idempotent.
+  void stop();
+  [[nodiscard]] bool stopped() const { return stopped_; }
+  [[nodiscard]] const LiveSummary& summary() const { return summary_; }
+  [[nodiscard]] const CaptureInfo& info() const { return info_; }
+
+ private:
+  class Counter;
+  struct Port;
+
+  void start_port(Port& port);
+  void on_chunk(Port& port, const Chunk& chunk);
+  void on_port_error(Port& port, const std::error_code& error);
+  void schedule_reopen(Port& port);
+  void schedule_idle();
+  void schedule_flush();
+
+  boost::asio::io_context& io_;
+  CaptureClock clock_;
+  LiveOptions options_;
+  ChunkRecorder* recorder_;
+  Notify notify_;
+  std::unique_ptr<Counter> counter_;
+  std::unique_ptr<DecodePipeline> pipeline_;
+  std::vector<std::unique_ptr<Port>> ports_;
+  boost::asio::steady_timer idle_timer_;
+  boost::asio::steady_timer flush_timer_;
+  boost::asio::steady_timer stop_timer_;
+  CaptureInfo info_;
+  LiveSummary summary_;
+  Nanos started_at_ = 0;
+  bool stopped_ = false;
+};
+
+}  // namespace rtu

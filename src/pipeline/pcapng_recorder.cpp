@@ -1,0 +1,155 @@
+#include "pipeline/pcapng_recorder.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <filesystem>
+
+#include "capture/byte_output.hpp"
+#include "capture/input_error.hpp"
+#include "capture/pcap_format.hpp"
+
+namespace rtu {
+namespace {
+
+RtacEvent event_for(std::uint8_t errors, RtacEvent data_event) {
+  if ((errors & kBreak) != 0) return RtacEvent::kSerialBreak;
+  if ((errors & kOverrun) != 0) return RtacEvent::kSerialOverflow;
+  if ((errors & kFramingError) != 0) return RtacEvent::kFramingError;
+  if ((errors & kParityError) != 0) return RtacEvent::kParityError;
+  return data_event;
+}
+
+// Block overhead of an EPB without options, for the size limit (an estimate is enough).
+constexpr std::uint64_t kRecordOverhead = 32 + kRtacHeaderSize + 3;
+
+}  // namespace
+
+RotationPolicy parse_rotation(const std::string& text) {
+  std::size_t digits = 0;
+  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits])) != 0) {
+    ++digits;
+  }
+  std::string unit = text.substr(digits);
+  for (auto& c : unit) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  RotationPolicy policy;
+  if (digits > 0 && digits <= 12) {
+    const std::uint64_t n = std::stoull(text.substr(0, digits));
+    if (unit == "b") policy.max_bytes = n;
+    if (unit == "kb" || unit == "k") policy.max_bytes = n * 1000;
+    if (unit == "mb") policy.max_bytes = n * 1000 * 1000;
+    if (unit == "gb") policy.max_bytes = n * 1000 * 1000 * 1000;
+    if (unit == "s") policy.max_age = static_cast<Nanos>(n) * kNanosPerSecond;
+    if (unit == "m" || unit == "min") policy.max_age = static_cast<Nanos>(n) * 60 * kNanosPerSecond;
+    if (unit == "h") policy.max_age = static_cast<Nanos>(n) * 3600 * kNanosPerSecond;
+    if (unit == "d") policy.max_age = static_cast<Nanos>(n) * 86400 * kNanosPerSecond;
+  }
+  if ((policy.max_bytes == 0 && policy.max_age == 0)) {
+    throw InputError(fmt::format(
+        "--rotate: expected a size (e.g. 100MB, 2GB) or a duration (e.g. 30m, 1h, 1d), found '{}'",
+        text));
+  }
+  return policy;
+}
+
+PcapngRecorder::PcapngRecorder(std::string path, RotationPolicy rotation)
+    : path_(std::move(path)), rotation_(rotation) {}
+
+PcapngRecorder::~PcapngRecorder() {
+  if (writer_) writer_->flush();
+}
+
+void PcapngRecorder::add_port(std::size_t port, const std::string& name, const LineSettings& line,
+                              const SerialStatus& status) {
+  if (ports_.size() <= port) ports_.resize(port + 1);
+  ports_[port].name = name;
+  const Nanos r = status.resolution;
+  ports_[port].description = fmt::format(
+      "RS-485 {}; rtuscope live; timing resolution {}", line.describe(),
+      r % kNanosPerMilli == 0 ? fmt::format("{} ms", r / kNanosPerMilli)
+                              : fmt::format("{}.{:06} ms", r / kNanosPerMilli, r % kNanosPerMilli));
+  if (writer_) {
+    // A port added late (never happens in LiveCapture, which adds all first).
+    interfaces_.resize(ports_.size());
+    interfaces_[port] = writer_->add_interface(
+        {pcap::kLinkTypeRtacSerial, ports_[port].name, ports_[port].description, 9, 0});
+  }
+}
+
+void PcapngRecorder::open_file(Nanos t) {
+  std::string path = path_;
+  if (rotation_.max_bytes != 0 || rotation_.max_age != 0) {
+    const std::filesystem::path p(path_);
+    path = (p.parent_path() /
+            fmt::format("{}-{:04}{}", p.stem().string(), ++file_index_, p.extension().string()))
+               .string();
+  }
+  if (writer_) writer_->flush();
+  writer_ = std::make_unique<PcapngWriter>(std::make_unique<FileOutput>(path));
+  interfaces_.clear();
+  for (const auto& port : ports_) {
+    interfaces_.push_back(
+        writer_->add_interface({pcap::kLinkTypeRtacSerial, port.name, port.description, 9, 0}));
+  }
+  file_bytes_ = 0;
+  file_started_ = t;
+  all_files_.push_back(path);
+  kept_files_.push_back(path);
+  while (rotation_.keep != 0 && kept_files_.size() > rotation_.keep) {
+    std::error_code ec;
+    std::filesystem::remove(kept_files_.front(), ec);
+    kept_files_.pop_front();
+  }
+}
+
+void PcapngRecorder::maybe_rotate(Nanos t) {
+  if (!writer_) {
+    open_file(t);
+    return;
+  }
+  if (file_started_ == kUnknownTime) file_started_ = t;
+  const bool too_big = rotation_.max_bytes != 0 && file_bytes_ >= rotation_.max_bytes;
+  const bool too_old = rotation_.max_age != 0 && t - file_started_ >= rotation_.max_age;
+  if (too_big || too_old) open_file(t);
+}
+
+void PcapngRecorder::write(std::size_t port, Nanos t, RtacEvent event,
+                           std::span<const std::uint8_t> bytes, std::string_view comment) {
+  maybe_rotate(t);
+  build_rtac_record(t, event, 0, bytes, buffer_);
+  PcapngPacketMeta meta;
+  meta.comment = comment;
+  if (ports_.size() == 2) meta.flags = port == 0 ? pcap::kFlagsOutbound : pcap::kFlagsInbound;
+  writer_->write_packet(interfaces_.at(port), t, buffer_, meta);
+  file_bytes_ += kRecordOverhead + buffer_.size() + comment.size();
+  ++records_;
+}
+
+void PcapngRecorder::on_chunk(std::size_t port, const Chunk& chunk) {
+  const RtacEvent data_event =
+      ports_.size() == 2 && port == 0 ? RtacEvent::kDataTxStart : RtacEvent::kDataRxStart;
+  if (chunk.errors.empty()) {
+    write(port, chunk.t_end, data_event, chunk.bytes, {});
+    return;
+  }
+  std::size_t start = 0;
+  while (start < chunk.bytes.size()) {
+    const std::uint8_t flags = chunk.errors[start];
+    std::size_t end = start + 1;
+    while (end < chunk.bytes.size() && chunk.errors[end] == flags) ++end;
+    write(port, chunk.t_end, event_for(flags, data_event), chunk.bytes.subspan(start, end - start),
+          {});
+    start = end;
+  }
+}
+
+void PcapngRecorder::on_gap(std::size_t port, Nanos t, const std::string& reason) {
+  write(port, t, RtacEvent::kCaptureDataLost, {}, reason);
+}
+
+void PcapngRecorder::flush() {
+  if (!writer_) open_file(kUnknownTime);  // the file exists from the start
+  writer_->flush();
+}
+
+}  // namespace rtu

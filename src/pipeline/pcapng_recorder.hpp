@@ -1,0 +1,78 @@
+#pragma once
+// Records a live capture as pcapng, chunk by chunk, exactly as read (FORMATS §2, §4):
+//  * one LINKTYPE_RTAC_SERIAL (250) interface per port, ns timestamps, if_name = the port,
+//    if_description = "RS-485 <baud> 8<parity><stop>; rtuscope live; timing resolution <r>"
+//    (the line settings and the resolution a replay needs to decode it the same way);
+//  * every read as DATA_RX_START (with two ports: the first as DATA_TX_START, epb_flags
+//    outbound, the second as DATA_RX_START, inbound), time = its read completion; where
+//    line errors mark bytes, the read is split into PARITY_ERROR / FRAMING_ERROR /
+//    SERIAL_BREAK_EVENT / SERIAL_OVERFLOW_EVENT records holding those bytes, all with the
+//    read's time (importers join records of equal time back into one chunk);
+//  * a port that failed: CAPTURE_DATA_LOST with the reason as comment, at the failure time.
+// Every record is handed to the file as a whole block and flushed at least every second by
+// LiveCapture, so `kill -9` loses at most the last second and leaves a readable file.
+//
+// Rotation: with a size or age limit, files are named <stem>-0001<ext>, -0002, ...; each
+// holds its own header and interfaces; only the newest `keep` files are kept (0 = all).
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capture/pcapng_writer.hpp"
+#include "capture/rtac_serial.hpp"
+#include "pipeline/live_capture.hpp"
+
+namespace rtu {
+
+struct RotationPolicy {
+  std::uint64_t max_bytes = 0;  // 0 = no size limit
+  Nanos max_age = 0;            // 0 = no age limit (capture time)
+  std::size_t keep = 0;         // 0 = keep every file
+};
+
+// "100MB", "2GB", "500kB", "1h", "30m", "90s", "1d" → a policy (keep left at 0).
+// Throws InputError naming the option when the text is neither.
+RotationPolicy parse_rotation(const std::string& text);
+
+class PcapngRecorder final : public ChunkRecorder {
+ public:
+  // Throws InputError when the file cannot be created.
+  PcapngRecorder(std::string path, RotationPolicy rotation = {});
+  ~PcapngRecorder() override;
+
+  void add_port(std::size_t port, const std::string& name, const LineSettings& line,
+                const SerialStatus& status) override;
+  void on_chunk(std::size_t port, const Chunk& chunk) override;
+  void on_gap(std::size_t port, Nanos t, const std::string& reason) override;
+  void flush() override;
+
+  [[nodiscard]] std::uint64_t records() const { return records_; }
+  [[nodiscard]] const std::vector<std::string>& files() const { return all_files_; }
+
+ private:
+  struct PortInfo {
+    std::string name;
+    std::string description;
+  };
+  void open_file(Nanos t);
+  void maybe_rotate(Nanos t);
+  void write(std::size_t port, Nanos t, RtacEvent event, std::span<const std::uint8_t> bytes,
+             std::string_view comment);
+
+  std::string path_;
+  RotationPolicy rotation_;
+  std::vector<PortInfo> ports_;
+  std::unique_ptr<PcapngWriter> writer_;
+  std::vector<std::uint32_t> interfaces_;
+  std::vector<std::uint8_t> buffer_;
+  std::deque<std::string> kept_files_;
+  std::vector<std::string> all_files_;
+  std::uint64_t file_bytes_ = 0;
+  Nanos file_started_ = kUnknownTime;
+  std::uint64_t file_index_ = 0;
+  std::uint64_t records_ = 0;
+};
+
+}  // namespace rtu

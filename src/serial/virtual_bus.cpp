@@ -1,0 +1,303 @@
+#include "serial/virtual_bus.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <poll.h>
+#include <pthread.h>
+#include <pty.h>
+#include <sched.h>
+#include <termios.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <system_error>
+
+namespace rtu {
+namespace {
+
+Nanos monotonic_now() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<Nanos>(ts.tv_sec) * kNanosPerSecond + ts.tv_nsec;
+}
+
+[[noreturn]] void throw_errno(const std::string& what) {
+  throw std::system_error(errno, std::generic_category(), what);
+}
+
+}  // namespace
+
+struct VirtualBus::Endpoint {
+  int master = -1;
+  int slave = -1;  // held open so the master never sees a hang-up between users
+  std::string pts;
+  std::string link;
+  bool usb = false;
+  std::vector<std::uint8_t> usb_buffer;
+  Nanos usb_deadline = 0;
+  std::vector<std::uint8_t> out;  // bytes to write in this round
+};
+
+VirtualBus::VirtualBus(VirtualBusOptions options)
+    : options_(std::move(options)), rng_state_(options_.seed == 0 ? 1 : options_.seed) {
+  running_ = true;  // until stop(): run() returns at once after it
+  char_time_ = options_.line.char_time();
+  endpoints_.resize(options_.endpoints);
+  for (const auto i : options_.usb_endpoints) {
+    if (i < endpoints_.size()) endpoints_[i].usb = true;
+  }
+  if (!options_.link_dir.empty()) std::filesystem::create_directories(options_.link_dir);
+  for (std::size_t i = 0; i < endpoints_.size(); ++i) {
+    open_endpoint(i);
+    paths_.push_back(endpoints_[i].link.empty() ? endpoints_[i].pts : endpoints_[i].link);
+  }
+  if (::pipe2(wake_pipe_, O_NONBLOCK | O_CLOEXEC) != 0) throw_errno("pipe");
+  if (!options_.log_path.empty()) {
+    log_file_ = std::fopen(options_.log_path.c_str(), "w");
+    if (log_file_ == nullptr) throw_errno(options_.log_path);
+    fmt::print(log_file_,
+               "# virtual bus log: one line per read from a writer, wire end time (monotonic s)\n");
+    fmt::print(log_file_, "# baud={} parity={} stop={}\n", options_.line.baud,
+               parity_letter(options_.line.parity), options_.line.stop_bits);
+    std::fflush(log_file_);
+  }
+}
+
+VirtualBus::~VirtualBus() {
+  stop();
+  for (std::size_t i = 0; i < endpoints_.size(); ++i) close_endpoint(i);
+  for (const int fd : wake_pipe_) {
+    if (fd >= 0) ::close(fd);
+  }
+  if (log_file_ != nullptr) std::fclose(log_file_);
+}
+
+void VirtualBus::open_endpoint(std::size_t index) {
+  Endpoint& ep = endpoints_[index];
+  char name[256] = {};
+  if (::openpty(&ep.master, &ep.slave, name, nullptr, nullptr) != 0) throw_errno("openpty");
+  ep.pts = name;
+  ::fcntl(ep.master, F_SETFL, ::fcntl(ep.master, F_GETFL) | O_NONBLOCK);
+  ::fcntl(ep.master, F_SETFD, FD_CLOEXEC);
+  ::fcntl(ep.slave, F_SETFD, FD_CLOEXEC);
+  // Raw, so nothing is echoed back onto the bus before a program configures the port.
+  // The speed stays at the pty default, so a program's own settings always change
+  // something (a tcsetattr that only changes PARENB fails with EINVAL on a pty).
+  termios tio{};
+  ::tcgetattr(ep.slave, &tio);
+  ::cfmakeraw(&tio);
+  ::tcsetattr(ep.slave, TCSANOW, &tio);
+  if (!options_.link_dir.empty()) {
+    ep.link = (std::filesystem::path(options_.link_dir) / fmt::format("ep{}", index)).string();
+    std::error_code ec;
+    std::filesystem::remove(ep.link, ec);
+    std::filesystem::create_symlink(ep.pts, ep.link);
+  }
+}
+
+void VirtualBus::close_endpoint(std::size_t index) {
+  Endpoint& ep = endpoints_[index];
+  if (ep.master >= 0) ::close(ep.master);
+  if (ep.slave >= 0) ::close(ep.slave);
+  ep.master = -1;
+  ep.slave = -1;
+  ep.usb_buffer.clear();
+  ep.out.clear();
+}
+
+void VirtualBus::unplug(std::size_t endpoint) {
+  {
+    const std::lock_guard lock(mutex_);
+    close_endpoint(endpoint);
+    if (!endpoints_[endpoint].link.empty()) {
+      std::error_code ec;
+      std::filesystem::remove(endpoints_[endpoint].link, ec);
+    }
+  }
+  const char c = 'u';
+  [[maybe_unused]] const auto n = ::write(wake_pipe_[1], &c, 1);
+}
+
+void VirtualBus::replug(std::size_t endpoint) {
+  {
+    const std::lock_guard lock(mutex_);
+    if (endpoints_[endpoint].master < 0) open_endpoint(endpoint);
+  }
+  const char c = 'r';
+  [[maybe_unused]] const auto n = ::write(wake_pipe_[1], &c, 1);
+}
+
+void VirtualBus::start() {
+  thread_ = std::thread([this] { run(); });
+}
+
+void VirtualBus::stop() {
+  running_ = false;
+  if (wake_pipe_[1] >= 0) {
+    const char c = 's';
+    [[maybe_unused]] const auto n = ::write(wake_pipe_[1], &c, 1);
+  }
+  if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
+}
+
+std::vector<BusLogEntry> VirtualBus::log() const {
+  const std::lock_guard lock(mutex_);
+  return log_;
+}
+
+void VirtualBus::run() {
+  // Pacing is only as good as this thread's wake-ups: ask for real-time scheduling where
+  // allowed (root or CAP_SYS_NICE); otherwise stay as we are.
+  sched_param param{};
+  param.sched_priority = 10;
+  ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &param);
+  std::vector<pollfd> fds;
+  std::vector<std::size_t> owners;
+  while (running_) {
+    Nanos next_due = -1;
+    {
+      const std::lock_guard lock(mutex_);
+      fds.clear();
+      owners.clear();
+      fds.push_back({wake_pipe_[0], POLLIN, 0});
+      owners.push_back(endpoints_.size());
+      for (std::size_t i = 0; i < endpoints_.size(); ++i) {
+        if (endpoints_[i].master < 0) continue;
+        fds.push_back({endpoints_[i].master, POLLIN, 0});
+        owners.push_back(i);
+        if (!endpoints_[i].usb_buffer.empty()) {
+          const Nanos d = endpoints_[i].usb_deadline;
+          next_due = next_due < 0 ? d : std::min(next_due, d);
+        }
+      }
+      if (queue_head_ < queue_.size()) {
+        const Nanos d = queue_[queue_head_].t_end;
+        next_due = next_due < 0 ? d : std::min(next_due, d);
+      }
+    }
+    timespec timeout{};
+    timespec* timeout_ptr = nullptr;
+    if (next_due >= 0) {
+      const Nanos wait = std::max<Nanos>(0, next_due - monotonic_now());
+      timeout.tv_sec = static_cast<time_t>(wait / kNanosPerSecond);
+      timeout.tv_nsec = static_cast<long>(wait % kNanosPerSecond);
+      timeout_ptr = &timeout;
+    }
+    const int ready = ::ppoll(fds.data(), fds.size(), timeout_ptr, nullptr);
+    if (ready < 0 && errno != EINTR) throw_errno("ppoll");
+    const std::lock_guard lock(mutex_);
+    const Nanos now = monotonic_now();
+    if (ready > 0) {
+      if ((fds[0].revents & POLLIN) != 0) {
+        char drain[64];
+        while (::read(wake_pipe_[0], drain, sizeof drain) > 0) {
+        }
+      }
+      for (std::size_t k = 1; k < fds.size(); ++k) {
+        const std::size_t i = owners[k];
+        if (endpoints_[i].master != fds[k].fd) continue;  // unplugged meanwhile
+        if ((fds[k].revents & POLLIN) != 0) read_from(i, now);
+      }
+    }
+    deliver_due(now);
+  }
+}
+
+void VirtualBus::read_from(std::size_t index, Nanos now) {
+  std::uint8_t buffer[4096];
+  const ssize_t n = ::read(endpoints_[index].master, buffer, sizeof buffer);
+  if (n <= 0) return;
+  // Consecutive bytes of one writer while the line is still busy with its previous byte
+  // belong to the same burst.
+  const bool continues = !log_.empty() && log_.back().from == index && line_free_at_ >= now;
+  Nanos t = std::max(now, line_free_at_);
+  if (!continues) log_.push_back(BusLogEntry{index, t, t, {}});
+  BusLogEntry& entry = log_.back();
+  const Nanos last = t + char_time_ * static_cast<Nanos>(n);
+  for (ssize_t k = 0; k < n; ++k) {
+    t += char_time_;
+    queue_.push_back(Pending{options_.per_byte ? t : last, index, buffer[k]});
+    entry.bytes.push_back(buffer[k]);
+  }
+  entry.t_end = t;
+  line_free_at_ = t;
+  if (log_file_ != nullptr) {
+    // One line per read: a text hex capture whose times are the wire end of each read.
+    fmt::memory_buffer line;
+    const Nanos start = t - char_time_ * static_cast<Nanos>(n);
+    fmt::format_to(std::back_inserter(line), "# from ep{} start {}.{:09}\n{}.{:09} ", index,
+                   start / kNanosPerSecond, start % kNanosPerSecond, t / kNanosPerSecond,
+                   t % kNanosPerSecond);
+    for (ssize_t k = 0; k < n; ++k) fmt::format_to(std::back_inserter(line), "{:02x}", buffer[k]);
+    line.push_back('\n');
+    std::fwrite(line.data(), 1, line.size(), log_file_);
+    std::fflush(log_file_);
+  }
+}
+
+void VirtualBus::deliver_due(Nanos now) {
+  while (queue_head_ < queue_.size() && queue_[queue_head_].t_end <= now) {
+    const Pending& p = queue_[queue_head_++];
+    for (std::size_t j = 0; j < endpoints_.size(); ++j) {
+      if (j == p.from || endpoints_[j].master < 0) continue;
+      std::uint8_t byte = p.byte;
+      if (options_.flip_probability > 0.0) {
+        rng_state_ = rng_state_ * 6364136223846793005ULL + 1442695040888963407ULL;
+        const double u = static_cast<double>(rng_state_ >> 11U) / 9007199254740992.0;
+        if (u < options_.flip_probability) {
+          byte ^= static_cast<std::uint8_t>(1U << ((rng_state_ >> 5U) & 7U));
+          ++flipped_;
+          if (log_file_ != nullptr) {
+            fmt::print(log_file_, "# fault: byte {:02x} delivered to ep{} as {:02x}\n", p.byte, j,
+                       byte);
+          }
+        }
+      }
+      Endpoint& ep = endpoints_[j];
+      if (ep.usb) {
+        if (ep.usb_buffer.empty()) ep.usb_deadline = now + options_.usb_latency;
+        ep.usb_buffer.push_back(byte);
+        if (ep.usb_buffer.size() >= options_.usb_packet) flush_usb(j, now, true);
+      } else {
+        ep.out.push_back(byte);
+      }
+    }
+  }
+  if (queue_head_ == queue_.size()) {
+    queue_.clear();
+    queue_head_ = 0;
+  }
+  for (std::size_t j = 0; j < endpoints_.size(); ++j) {
+    Endpoint& ep = endpoints_[j];
+    if (ep.usb) flush_usb(j, now, false);
+    if (!ep.out.empty()) {
+      write_to(j, ep.out.data(), ep.out.size());
+      ep.out.clear();
+    }
+  }
+}
+
+void VirtualBus::flush_usb(std::size_t index, Nanos now, bool force) {
+  Endpoint& ep = endpoints_[index];
+  if (ep.usb_buffer.empty() || (!force && now < ep.usb_deadline)) return;
+  write_to(index, ep.usb_buffer.data(), ep.usb_buffer.size());
+  ep.usb_buffer.clear();
+}
+
+void VirtualBus::write_to(std::size_t index, const std::uint8_t* data, std::size_t n) {
+  const int fd = endpoints_[index].master;
+  while (n > 0) {
+    const ssize_t w = ::write(fd, data, n);
+    if (w <= 0) {
+      if (w < 0 && errno == EINTR) continue;
+      dropped_ += n;  // nobody reads this endpoint and its buffer is full
+      return;
+    }
+    data += w;
+    n -= static_cast<std::size_t>(w);
+  }
+}
+
+}  // namespace rtu

@@ -1,0 +1,247 @@
+#!/usr/bin/env python3
+"""Live capture against real Modbus peers on the virtual RS-485 bus.
+
+rtuvbus provides three pseudo-terminal endpoints: mbpoll (libmodbus) is the master on
+ep0, a slave (our libmodbus server, or Debian's pymodbus) answers on ep1, and
+`rtuscope live -w` sniffs ep2. Afterwards:
+  * every byte the peers wrote (the bus log) was captured, in order;
+  * every burst a peer wrote is one CRC-valid frame, requests paired with their responses,
+    the request to an absent slave timed out, and every frame decoded (function named);
+  * `rtuscope decode` of the pcapng written meanwhile gives the same records.
+"""
+import argparse
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+SLAVE = 17
+ABSENT = 99
+BAUD = 19200
+
+
+def fail(message):
+    print(f"FAIL: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def read_lines(proc, count, what, deadline=20.0):
+    lines = []
+    end = time.monotonic() + deadline
+    while len(lines) < count:
+        if time.monotonic() > end:
+            fail(f"{what}: no output")
+        line = proc.stdout.readline()
+        if not line:
+            fail(f"{what} ended early (exit {proc.wait()})")
+        lines.append(line.strip())
+    return lines
+
+
+def wait_for_stderr(proc, needle, what, deadline=20.0):
+    end = time.monotonic() + deadline
+    seen = []
+    while time.monotonic() < end:
+        line = proc.stderr.readline()
+        if not line:
+            break
+        seen.append(line)
+        if needle in line:
+            return seen
+    fail(f"{what} did not say '{needle}': {''.join(seen)}")
+
+
+def bus_bursts(log_path):
+    """Bursts from the bus log: reads of one writer that follow each other on the wire
+    without a pause are one burst (a writer's frame may reach the bus in several reads)."""
+    bursts = []
+    who = start = None
+    with open(log_path) as f:
+        for line in f:
+            line = line.strip()
+            if line.startswith("# from ep"):
+                fields = line[len("# from ep"):].split()
+                who, start = int(fields[0]), float(fields[2])
+                continue
+            if not line or line.startswith("#"):
+                continue
+            t, hexbytes = line.split()
+            if bursts and bursts[-1][0] == who and start - bursts[-1][2] < 2e-6:
+                bursts[-1][1] += hexbytes
+                bursts[-1][2] = float(t)
+            else:
+                bursts.append([who, hexbytes, float(t)])
+    return [(b[0], b[1]) for b in bursts]
+
+
+def master_commands(port):
+    base = ["mbpoll", "-m", "rtu", "-b", str(BAUD), "-P", "even", "-1", "-o", "0.5"]
+    reads = [
+        ["-a", str(SLAVE), "-t", "4", "-r", "1", "-c", "10"],   # FC03
+        ["-a", str(SLAVE), "-t", "3", "-r", "5", "-c", "4"],    # FC04
+        ["-a", str(SLAVE), "-t", "0", "-r", "1", "-c", "16"],   # FC01
+        ["-a", str(SLAVE), "-t", "1", "-r", "3", "-c", "9"],    # FC02
+    ]
+    writes = [
+        (["-a", str(SLAVE), "-t", "4", "-r", "20"], ["1234"]),         # FC06
+        (["-a", str(SLAVE), "-t", "4", "-r", "30"], ["1", "2", "3"]),  # FC16
+        (["-a", str(SLAVE), "-t", "0", "-r", "7"], ["1"]),             # FC05
+        (["-a", str(SLAVE), "-t", "0", "-r", "10"], ["1", "0", "1"]),  # FC15
+    ]
+    cmds = []
+    for _ in range(2):
+        for r in reads:
+            cmds.append(base + r + [port])
+        for opts, values in writes:
+            cmds.append(base + opts + [port] + values)
+    cmds.append(base + ["-a", str(ABSENT), "-t", "4", "-r", "1", "-c", "2", port])
+    return cmds
+
+
+def load_jsonl(path):
+    with open(path) as f:
+        return [json.loads(line) for line in f if line.strip()]
+
+
+def python_with_pymodbus():
+    for candidate in (sys.executable, "/usr/bin/python3"):
+        if candidate and subprocess.run([candidate, "-c", "import pymodbus"],
+                                        capture_output=True).returncode == 0:
+            return candidate
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rtuscope", required=True)
+    ap.add_argument("--vbus", required=True)
+    ap.add_argument("--slave", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--scenario", required=True)
+    args = ap.parse_args()
+    if shutil.which("mbpoll") is None:
+        fail("mbpoll is not installed (tools/debian-packages.txt)")
+    shutil.rmtree(args.work, ignore_errors=True)
+    os.makedirs(args.work)
+    log = os.path.join(args.work, "bus.hex")
+    pcapng = os.path.join(args.work, "live.pcapng")
+    live_out = os.path.join(args.work, "live.jsonl")
+
+    vbus_cmd = [args.vbus, "-n", "3", "--baud", str(BAUD), "--parity", "E", "--log", log]
+    if args.scenario == "usb_chunking":
+        vbus_cmd += ["--usb", "2", "--usb-latency-ms", "16"]
+    vbus = subprocess.Popen(vbus_cmd, stdout=subprocess.PIPE, text=True)
+    procs = [vbus]
+    try:
+        master_ep, slave_ep, sniff_ep = read_lines(vbus, 3, "rtuvbus")
+        if args.scenario == "pymodbus_slave":
+            py = python_with_pymodbus()
+            if py is None:
+                fail("python3-pymodbus is not installed (tools/debian-packages.txt)")
+            slave_cmd = [py, os.path.join(os.path.dirname(__file__), "pymodbus_slave.py")]
+        else:
+            slave_cmd = [args.slave]
+        slave = subprocess.Popen(slave_cmd + [slave_ep, str(SLAVE), str(BAUD), "E", "1"],
+                                 stdout=subprocess.PIPE, text=True)
+        procs.append(slave)
+        read_lines(slave, 1, "slave")
+        live = subprocess.Popen([args.rtuscope, "live", sniff_ep, "--baud", str(BAUD),
+                                 "--parity", "E", "--format", "jsonl", "-o", live_out,
+                                 "-w", pcapng, "--timeout-ms", "300"],
+                                stderr=subprocess.PIPE, text=True)
+        procs.append(live)
+        notes = wait_for_stderr(live, "listening on", "rtuscope live")
+        if not any("parity" in n for n in notes):
+            fail("rtuscope live did not say that the pty has no parity")
+        time.sleep(1.0)  # pymodbus opens its port asynchronously after printing "ready"
+        for cmd in master_commands(master_ep):
+            r = subprocess.run(cmd, capture_output=True, text=True, timeout=30)
+            absent = f"-a {ABSENT}" in " ".join(cmd)
+            if r.returncode != 0 and not absent:
+                fail(f"{' '.join(cmd)} failed: {r.stdout}{r.stderr}")
+        time.sleep(0.5)  # the last response's t3.5 and the absent slave's timeout
+        live.send_signal(signal.SIGTERM)
+        _, err = live.communicate(timeout=20)
+        if live.returncode != 0:
+            fail(f"rtuscope live exited {live.returncode}: {err}")
+        print(err, end="")
+    finally:
+        for p in reversed(procs):
+            if p.poll() is None:
+                p.send_signal(signal.SIGTERM)
+                try:
+                    p.wait(timeout=10)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+
+    bursts = bus_bursts(log)
+    records = load_jsonl(live_out)
+    body = [r for r in records if r["kind"] in ("frame", "noise")]
+    frames = [r for r in body if r["kind"] == "frame"]
+    print(f"bus log: {len(bursts)} bursts; live: {len(frames)} frames, "
+          f"{len(body) - len(frames)} noise records")
+
+    # 1. Every byte, in order.
+    bus_bytes = "".join(h for _, h in bursts)
+    live_bytes = "".join(r["hex"] for r in body)
+    if bus_bytes != live_bytes:
+        fail(f"captured bytes differ from the bus log:\n bus  {bus_bytes}\n live {live_bytes}")
+    # 2. One frame per burst, CRC-valid, decoded, roles from who wrote it.
+    if len(frames) != len(bursts) or len(body) != len(frames):
+        fail(f"{len(bursts)} bursts on the bus but {len(frames)} frames, "
+             f"{len(body) - len(frames)} noise records")
+    for (who, hexbytes), frame in zip(bursts, frames):
+        want_role = "request" if who == 0 else "response"
+        if frame["hex"] != hexbytes or not frame["crc_ok"] or frame["role"] != want_role:
+            fail(f"burst from ep{who} {hexbytes} became {frame}")
+        if not frame.get("function"):
+            fail(f"frame not decoded: {frame}")
+    # 3. Pairing: each response shares the txn of the request just before it.
+    answered = 0
+    for i, frame in enumerate(frames):
+        if frame["role"] == "response":
+            req = frames[i - 1]
+            if req["role"] != "request" or frame["txn"] is None or req["txn"] != frame["txn"]:
+                fail(f"response not paired with its request: {req} / {frame}")
+            if frame.get("latency_ms") is None:
+                fail(f"response without latency: {frame}")
+            answered += 1
+    requests = [f for f in frames if f["role"] == "request"]
+    timed_out = [f for f in requests if "timeout" in (f.get("issues") or [])]
+    if answered != len(requests) - 1 or len(timed_out) != 1 or timed_out[0]["slave"] != ABSENT:
+        fail(f"{answered} answered of {len(requests)} requests, timeouts: {timed_out}")
+    functions = sorted({f["fc"] for f in requests})
+    if functions != [1, 2, 3, 4, 5, 6, 15, 16]:
+        fail(f"function codes seen: {functions}")
+
+    # 4. The recording replays to the same records.
+    replay = subprocess.run([args.rtuscope, "decode", pcapng, "--format", "jsonl"],
+                            capture_output=True, text=True, timeout=60)
+    if replay.returncode != 0 and "pcap import is not available" in replay.stderr:
+        # This build has no pcapng reader yet: everything above was still checked.
+        print("replay check skipped: this build cannot read pcapng")
+        print(f"OK: {len(bursts)} bursts captured, {answered} transactions paired")
+        return
+    if replay.returncode != 0:
+        fail(f"decode {pcapng}: {replay.stderr}")
+    replayed = [json.loads(line) for line in replay.stdout.splitlines() if line.strip()]
+    rbody = [r for r in replayed if r["kind"] in ("frame", "noise")]
+    if rbody != body:
+        for a, b in zip(body, rbody):
+            if a != b:
+                fail(f"replay differs:\n live   {a}\n replay {b}")
+        fail(f"replay has {len(rbody)} records, live {len(body)}")
+    header = [r for r in records if r["kind"] == "capture"]
+    rheader = [r for r in replayed if r["kind"] == "capture"]
+    for key in ("baud", "parity", "stop_bits", "timing_resolution_ms"):
+        if header[0].get(key) != rheader[0].get(key):
+            fail(f"header {key}: live {header[0].get(key)}, replay {rheader[0].get(key)}")
+    print(f"OK: {len(bursts)} bursts captured, {answered} transactions paired, "
+          f"replay identical ({len(rbody)} records)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,238 @@
+// Live capture end to end over the virtual bus: real pseudo-terminals, the real Asio
+// source, the decode pipeline, and the pcapng recorder. The waits below wait for I/O to
+// happen (with a generous deadline); nothing asserts on how long anything took.
+#include "pipeline/live_capture.hpp"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bus_builder.hpp"
+#include "capture/pcap_reader.hpp"
+#include "capture/rtac_serial.hpp"
+#include "pipeline/pcapng_recorder.hpp"
+#include "serial/virtual_bus.hpp"
+
+namespace rtu {
+namespace {
+
+using test::CollectingSink;
+using test::with_crc;
+
+int open_raw(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY);
+  EXPECT_GE(fd, 0) << path;
+  termios tio{};
+  ::tcgetattr(fd, &tio);
+  ::cfmakeraw(&tio);
+  ::cfsetspeed(&tio, B19200);
+  ::tcsetattr(fd, TCSANOW, &tio);
+  return fd;
+}
+
+template <typename Done>
+bool run_until(boost::asio::io_context& io, Done done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+  while (!done() && std::chrono::steady_clock::now() < deadline) {
+    io.run_one_for(std::chrono::milliseconds(20));
+  }
+  return done();
+}
+
+bool said(const std::vector<std::string>& notes, const std::string& what) {
+  for (const auto& n : notes) {
+    if (n.find(what) != std::string::npos) return true;
+  }
+  return false;
+}
+
+class LiveCaptureTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("rtuscope_live_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+// Broadcast writes: no response is expected, so each frame is released as soon as the
+// line has been quiet for t3.5.
+const std::vector<std::uint8_t> kFirst = with_crc({0x00, 0x06, 0x00, 0x01, 0x00, 0x03});
+const std::vector<std::uint8_t> kSecond = with_crc({0x00, 0x06, 0x00, 0x02, 0xFF, 0xFF});
+
+TEST_F(LiveCaptureTest, FramesArePrintedWhenTheLineGoesQuietAndRecorded) {
+  VirtualBusOptions bus_options;
+  bus_options.line = LineSettings{19200, Parity::kEven, 1};
+  VirtualBus bus(bus_options);
+  bus.start();
+  const std::string file = (dir_ / "live.pcapng").string();
+  PcapngRecorder recorder(file);
+  CollectingSink sink;
+  std::vector<std::string> notes;
+  LiveOptions options;
+  options.ports = {bus.paths()[2]};
+  options.line = bus_options.line;
+  boost::asio::io_context io;
+  SystemClock clock;
+  LiveCapture capture(io, clock, options, sink, &recorder,
+                      [&](const std::string& m) { notes.push_back(m); });
+  capture.start();
+  EXPECT_TRUE(said(notes, "parity"));  // a pty has none: said, not fatal
+  const int master = open_raw(bus.paths()[0]);
+  ASSERT_EQ(::write(master, kFirst.data(), kFirst.size()), 8);
+  // No more bytes come: only the idle timer can decide the frame.
+  ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 1; }));
+  ASSERT_EQ(::write(master, kSecond.data(), kSecond.size()), 8);
+  ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 2; }));
+  capture.stop();
+  ::close(master);
+  bus.stop();
+
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_EQ(
+      std::vector<std::uint8_t>(sink.records[0].bytes().begin(), sink.records[0].bytes().end()),
+      kFirst);
+  EXPECT_EQ(
+      std::vector<std::uint8_t>(sink.records[1].bytes().begin(), sink.records[1].bytes().end()),
+      kSecond);
+  EXPECT_TRUE(sink.records[1].crc_ok);  // its FF bytes survived PARMRK doubling
+  EXPECT_EQ(capture.summary().frames, 2U);
+  EXPECT_EQ(capture.summary().bytes, 16U);
+
+  // The file holds exactly the bytes read, on a LINKTYPE 250 interface that declares the
+  // line settings and the timing resolution.
+  PcapReader reader(file);
+  CapturePacket packet;
+  std::vector<std::uint8_t> recorded;
+  std::size_t packets = 0;
+  while (reader.next(packet)) {
+    ++packets;
+    EXPECT_EQ(packet.link_type, 250);
+    EXPECT_NE(packet.interface_description.find("19200 8E1"), std::string::npos);
+    EXPECT_NE(packet.interface_description.find("timing resolution 1 ms"), std::string::npos);
+    EXPECT_EQ(packet.interface_name, bus.paths()[2]);
+    std::string error;
+    const auto rec = parse_rtac_record(packet.data, error);
+    ASSERT_TRUE(rec.has_value()) << error;
+    EXPECT_EQ(rec->event, static_cast<std::uint8_t>(RtacEvent::kDataRxStart));
+    recorded.insert(recorded.end(), rec->payload.begin(), rec->payload.end());
+  }
+  EXPECT_EQ(packets, capture.summary().chunks);
+  std::vector<std::uint8_t> both = kFirst;
+  both.insert(both.end(), kSecond.begin(), kSecond.end());
+  EXPECT_EQ(recorded, both);
+}
+
+TEST_F(LiveCaptureTest, UnpluggedPortIsReopenedAndTheGapIsRecorded) {
+  VirtualBusOptions bus_options;
+  bus_options.line = LineSettings{19200, Parity::kNone, 1};
+  bus_options.link_dir = (dir_ / "links").string();
+  VirtualBus bus(bus_options);
+  bus.start();
+  const std::string file = (dir_ / "gap.pcapng").string();
+  PcapngRecorder recorder(file);
+  CollectingSink sink;
+  std::vector<std::string> notes;
+  LiveOptions options;
+  options.ports = {bus.paths()[2]};
+  options.line = bus_options.line;
+  options.reopen_period = 20 * kNanosPerMilli;
+  boost::asio::io_context io;
+  SystemClock clock;
+  LiveCapture capture(io, clock, options, sink, &recorder,
+                      [&](const std::string& m) { notes.push_back(m); });
+  capture.start();
+  const int master = open_raw(bus.paths()[0]);
+  ASSERT_EQ(::write(master, kFirst.data(), kFirst.size()), 8);
+  ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 1; }));
+
+  bus.unplug(2);
+  ASSERT_TRUE(run_until(io, [&] { return said(notes, "reopening it when it comes back"); }));
+  bus.replug(2);
+  ASSERT_TRUE(run_until(io, [&] { return said(notes, "back after"); }));
+  ASSERT_EQ(::write(master, kSecond.data(), kSecond.size()), 8);
+  ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 2; }));
+  capture.stop();
+  ::close(master);
+  bus.stop();
+
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_EQ(capture.summary().disconnects, 1U);
+  EXPECT_EQ(sink.records[0].line_errors, 0);
+  // The first frame after the gap says bytes may have been lost before it.
+  EXPECT_NE(sink.records[1].line_errors & kOverrun, 0);
+  EXPECT_EQ(
+      std::vector<std::uint8_t>(sink.records[1].bytes().begin(), sink.records[1].bytes().end()),
+      kSecond);
+
+  PcapReader reader(file);
+  CapturePacket packet;
+  bool lost = false;
+  while (reader.next(packet)) {
+    std::string error;
+    const auto rec = parse_rtac_record(packet.data, error);
+    ASSERT_TRUE(rec.has_value()) << error;
+    if (rec->event == static_cast<std::uint8_t>(RtacEvent::kCaptureDataLost)) {
+      lost = true;
+      EXPECT_NE(packet.comment.find(bus.paths()[2]), std::string_view::npos);
+    }
+  }
+  EXPECT_TRUE(lost);
+}
+
+TEST(Rotation, SizesAndDurationsParse) {
+  EXPECT_EQ(parse_rotation("100MB").max_bytes, 100'000'000U);
+  EXPECT_EQ(parse_rotation("2gb").max_bytes, 2'000'000'000U);
+  EXPECT_EQ(parse_rotation("1h").max_age, 3600 * kNanosPerSecond);
+  EXPECT_EQ(parse_rotation("30m").max_age, 1800 * kNanosPerSecond);
+  EXPECT_THROW(parse_rotation("soon"), InputError);
+  EXPECT_THROW(parse_rotation("10"), InputError);
+}
+
+TEST(Rotation, NewFilesStartAtTheLimitAndOnlyTheNewestAreKept) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("rtuscope_rotate_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  RotationPolicy policy = parse_rotation("1s");
+  policy.keep = 2;
+  {
+    PcapngRecorder recorder((dir / "cap.pcapng").string(), policy);
+    SerialStatus status;
+    status.resolution = kNanosPerMilli;
+    recorder.add_port(0, "/dev/ttyX", LineSettings{}, status);
+    const std::vector<std::uint8_t> bytes = {1, 2, 3};
+    for (int s = 0; s < 5; ++s) {
+      Chunk chunk;
+      chunk.t_end = 1'700'000'000 * kNanosPerSecond + s * kNanosPerSecond;
+      chunk.bytes = bytes;
+      recorder.on_chunk(0, chunk);
+    }
+    EXPECT_EQ(recorder.files().size(), 5U);
+  }
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    left.push_back(e.path().filename().string());
+  }
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"cap-0004.pcapng", "cap-0005.pcapng"}));
+  PcapReader reader((dir / "cap-0005.pcapng").string());
+  CapturePacket packet;
+  ASSERT_TRUE(reader.next(packet));  // each file has its own header and interface
+  EXPECT_EQ(packet.interface_name, "/dev/ttyX");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rtu

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "app/device_options.hpp"
+#include "app/line_options.hpp"
 #include "capture/input_error.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -22,12 +24,10 @@ namespace {
 
 struct LiveArgs {
   std::vector<std::string> ports;
-  std::uint32_t baud = 9600;
-  std::string parity = "E";
-  unsigned stop_bits = 1;
+  LineOptions line;
+  DeviceOptions devices;
   std::string format = "text";
   std::string output = "-";
-  double timeout_ms = 1000.0;
   double duration_s = 0.0;
   std::string write_path;
   std::string rotate;
@@ -45,23 +45,24 @@ void print_summary(const LiveSummary& s) {
 }
 
 void run_live(const LiveArgs& args, int& exit_code) {
+  // Line settings: the command line, else the --bus file, else Modbus's 9600 8E1.
+  ReplayOptions line = args.line.to_replay_options();
+  const auto devices = args.devices.build(line);
+  FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
   LiveOptions options;
   options.ports = args.ports;
-  options.line.baud = args.baud;
-  const auto parity = parse_parity(args.parity);
-  if (!parity)
-    throw InputError(fmt::format("--parity: expected N, E or O, found '{}'", args.parity));
-  options.line.parity = *parity;
-  options.line.stop_bits = static_cast<std::uint8_t>(args.stop_bits);
-  options.response_timeout = static_cast<Nanos>(args.timeout_ms * 1e6);
+  options.line.baud = line.overrides.baud.value_or(options.line.baud);
+  options.line.parity = line.overrides.parity.value_or(options.line.parity);
+  options.line.stop_bits = line.overrides.stop_bits.value_or(options.line.stop_bits);
+  options.response_timeout = line.response_timeout;
   options.duration = static_cast<Nanos>(args.duration_s * 1e9);
 
   OutputStream out(args.output);
   std::unique_ptr<RecordSink> writer;
   if (args.format == "jsonl") {
-    writer = std::make_unique<JsonlWriter>(out, nullptr, true);
+    writer = std::make_unique<JsonlWriter>(out, annotator, true);
   } else {
-    writer = std::make_unique<TextWriter>(out, nullptr, true);
+    writer = std::make_unique<TextWriter>(out, annotator, true);
   }
 
   std::unique_ptr<PcapngRecorder> recorder;
@@ -104,16 +105,11 @@ void setup_live(CLI::App& app, int& exit_code) {
   cmd->add_option("ports", args->ports, "Serial port(s), e.g. /dev/ttyUSB0")
       ->required()
       ->expected(1, 2);
-  cmd->add_option("--baud", args->baud, "Baud rate, any value (default 9600)")
-      ->check(CLI::Range(50U, 20000000U));
-  cmd->add_option("--parity", args->parity, "Parity N|E|O (default E)");
-  cmd->add_option("--stop", args->stop_bits, "Stop bits 1|2 (default 1)")
-      ->check(CLI::IsMember({1U, 2U}));
+  args->line.add_to(*cmd, false);
+  args->devices.add_to(*cmd);
   cmd->add_option("--format", args->format, "Output format")
       ->check(CLI::IsMember({"text", "jsonl"}));
   cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
-  cmd->add_option("--timeout-ms", args->timeout_ms, "Response timeout in ms (default 1000)")
-      ->check(CLI::PositiveNumber);
   cmd->add_option("--duration", args->duration_s,
                   "Stop after this many seconds (default: run "
                   "until Ctrl-C)")

@@ -63,9 +63,12 @@ std::unique_ptr<DeviceSetup> DeviceOptions::build(ReplayOptions& options) const 
     if (!options.overrides.baud) options.overrides.baud = bus.baud;
     if (!options.overrides.parity) options.overrides.parity = bus.parity;
     if (!options.overrides.stop_bits) options.overrides.stop_bits = bus.stop_bits;
-    const bool timeout_given = command_ != nullptr && command_->count("--timeout-ms") > 0;
+    const CLI::Option* timeout =
+        command_ != nullptr ? command_->get_option_no_throw("--timeout-ms") : nullptr;
+    const bool timeout_given = timeout != nullptr && timeout->count() > 0;
     if (bus.timeout_ms && !timeout_given) {
       options.response_timeout = static_cast<Nanos>(*bus.timeout_ms) * kNanosPerMilli;
+      options.response_timeout_set = true;
     }
     slaves = bus.slaves;
   }

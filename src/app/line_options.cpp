@@ -6,14 +6,17 @@
 
 namespace rtu::app {
 
-void LineOptions::add_to(CLI::App& command) {
+void LineOptions::add_to(CLI::App& command, bool with_resolution) {
   command.add_option("--baud", baud, "Baud rate (default: from the file, else 9600)")
       ->check(CLI::Range(50U, 20000000U));
   command.add_option("--parity", parity, "Parity N|E|O (default: from the file, else E)");
   command.add_option("--stop", stop_bits, "Stop bits 1|2 (default: from the file, else 1)")
       ->check(CLI::IsMember({1U, 2U}));
-  command.add_option("--timeout-ms", timeout_ms, "Response timeout in ms (default 1000)")
+  timeout_option = command.add_option(
+      "--timeout-ms", timeout_ms,
+      "Response timeout in ms (default: what a live recording declares, else 1000)")
       ->check(CLI::PositiveNumber);
+  if (!with_resolution) return;
   command
       .add_option("--resolution-ms", resolution_ms,
                   "Timing resolution of the capture in ms (default: estimated from the data)")
@@ -31,6 +34,7 @@ ReplayOptions LineOptions::to_replay_options() const {
   }
   if (stop_bits) options.overrides.stop_bits = static_cast<std::uint8_t>(*stop_bits);
   options.response_timeout = static_cast<Nanos>(timeout_ms * 1e6);
+  options.response_timeout_set = timeout_option != nullptr && timeout_option->count() > 0;
   if (resolution_ms) options.resolution = static_cast<Nanos>(*resolution_ms * 1e6);
   return options;
 }

@@ -15,8 +15,11 @@ struct LineOptions {
   std::optional<unsigned> stop_bits;
   double timeout_ms = 1000.0;
   std::optional<double> resolution_ms;
+  const CLI::Option* timeout_option = nullptr;  // tells whether --timeout-ms was given
 
-  void add_to(CLI::App& command);
+  // `with_resolution`: offer --resolution-ms (not for live ports, whose resolution is
+  // measured).
+  void add_to(CLI::App& command, bool with_resolution = true);
   // Throws InputError for values CLI11 cannot check by itself.
   [[nodiscard]] ReplayOptions to_replay_options() const;
 };

@@ -23,6 +23,14 @@ std::uint8_t errors_of(std::uint8_t event) {
   }
 }
 
+// A CAPTURE_COMPLETE record without bytes: the end of a live capture.
+bool is_capture_complete(std::span<const std::uint8_t> record) {
+  std::string error;
+  const auto rec = parse_rtac_record(record, error);
+  return rec && static_cast<RtacEvent>(rec->event) == RtacEvent::kCaptureComplete &&
+         rec->payload.empty();
+}
+
 }  // namespace
 
 std::optional<LineSettings> parse_line_description(std::string_view text) {
@@ -53,10 +61,17 @@ std::optional<LineSettings> parse_line_description(std::string_view text) {
 }
 
 std::optional<Nanos> parse_resolution_description(std::string_view text) {
-  constexpr std::string_view kKey = "timing resolution ";
-  const auto at = text.find(kKey);
+  return parse_milliseconds_after(text, "timing resolution ");
+}
+
+std::optional<Nanos> parse_timeout_description(std::string_view text) {
+  return parse_milliseconds_after(text, "response timeout ");
+}
+
+std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string_view key) {
+  const auto at = text.find(key);
   if (at == std::string_view::npos) return std::nullopt;
-  std::size_t i = at + kKey.size();
+  std::size_t i = at + key.size();
   Nanos whole = 0;
   Nanos fraction = 0;
   Nanos scale = kNanosPerMilli;
@@ -100,6 +115,7 @@ bool PcapImporter::fetch() {
   }
   if (!declared_) declared_ = parse_line_description(packet_.interface_description);
   if (!resolution_) resolution_ = parse_resolution_description(packet_.interface_description);
+  if (!timeout_) timeout_ = parse_timeout_description(packet_.interface_description);
   have_packet_ = true;
   return true;
 }
@@ -136,6 +152,15 @@ bool PcapImporter::next(PcapItem& out) {
       out.resolution = packet_.resolution;
       return true;
     }
+    if (is_capture_complete(packet_.data)) {
+      have_packet_ = false;
+      out = PcapItem{};
+      out.kind = PcapItem::Kind::kEnd;
+      out.t_start = packet_.t;
+      out.offset = at;
+      out.resolution = packet_.resolution;
+      return true;
+    }
     // RTAC serial: gather the records that share this time into one chunk.
     const Nanos t = packet_.t;
     const std::uint32_t interface_id = packet_.interface_id;
@@ -148,7 +173,8 @@ bool PcapImporter::next(PcapItem& out) {
     errors_.clear();
     bool any_error = false;
     while (have_packet_ && packet_.link_type == pcap::kLinkTypeRtacSerial && packet_.t == t &&
-           packet_.interface_id == interface_id && packet_.section == section) {
+           packet_.interface_id == interface_id && packet_.section == section &&
+           !is_capture_complete(packet_.data)) {
       const auto rec = parse_rtac_record(packet_.data, error);
       if (!rec) throw InputError(fmt::format("{}: offset {}: {}", name(), packet_.offset, error));
       const std::uint8_t flags = errors_of(rec->event);
@@ -185,7 +211,9 @@ PcapChunkSource::PcapChunkSource(const std::string& path, LineSettings line)
 
 bool PcapChunkSource::next(Chunk& out) {
   PcapItem item;
-  if (!importer_.next(item)) return false;
+  do {
+    if (!importer_.next(item)) return false;
+  } while (item.kind == PcapItem::Kind::kEnd);  // chunk consumers have no use for it
   if (precision_ == 0 || item.resolution < precision_) precision_ = item.resolution;
   if (item.kind == PcapItem::Kind::kChunk) {
     out = item.chunk;

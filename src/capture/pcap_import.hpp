@@ -5,7 +5,8 @@
 //    chunk (rtuscope's raw export splits a chunk where its line errors change). Line
 //    events carry their bytes flagged: PARITY_ERROR → parity, FRAMING_ERROR → framing,
 //    SERIAL_BREAK_EVENT → break, SERIAL_OVERFLOW_EVENT and CAPTURE_DATA_LOST → overrun.
-//    An event with no bytes flags the next byte that arrives.
+//    An event with no bytes flags the next byte that arrives. CAPTURE_COMPLETE (which
+//    `rtuscope live` writes when it stops) becomes an end item: the time the capture ended.
 //  * LINKTYPE_WIRESHARK_UPPER_PDU (252) records for dissector `mbrtu` are frames whose
 //    boundaries are known; records for dissector `data` are noise (rtuscope writes the
 //    bytes that form no frame that way). The record's time is the first byte's start.
@@ -26,12 +27,12 @@
 namespace rtu {
 
 struct PcapItem {
-  enum class Kind : std::uint8_t { kChunk, kFrame, kNoise };
+  enum class Kind : std::uint8_t { kChunk, kFrame, kNoise, kEnd };
   Kind kind = Kind::kChunk;
   Chunk chunk;  // kChunk; spans valid until the next call
   // kFrame / kNoise; valid until the next call
   std::span<const std::uint8_t> bytes;
-  Nanos t_start = 0;
+  Nanos t_start = 0;  // kFrame / kNoise: first byte's start; kEnd: when the capture ended
   std::uint64_t offset = 0;  // byte offset of the (first) record in the file
   Nanos resolution = 0;      // timestamp step of its interface
 };
@@ -50,6 +51,8 @@ class PcapImporter {
   // Timing resolution of the capture the frames were decoded from, from an interface
   // description holding "timing resolution <ms> ms" (rtuscope's exports write it).
   [[nodiscard]] std::optional<Nanos> declared_resolution() const { return resolution_; }
+  // The response timeout a live recording was decoded with, from "response timeout <ms> ms".
+  [[nodiscard]] std::optional<Nanos> declared_timeout() const { return timeout_; }
   [[nodiscard]] const std::string& name() const;
 
  private:
@@ -60,14 +63,19 @@ class PcapImporter {
   bool ended_ = false;
   std::optional<LineSettings> declared_;
   std::optional<Nanos> resolution_;
+  std::optional<Nanos> timeout_;
   std::optional<InputError> deferred_;
   std::uint8_t pending_errors_ = 0;  // from events without bytes
   std::vector<std::uint8_t> bytes_;
   std::vector<std::uint8_t> errors_;
 };
 
+// "<key><ms> ms" anywhere in `text`, e.g. key "timing resolution " and "16.000 ms".
+std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string_view key);
 // "timing resolution 16.000 ms" anywhere in `text`.
 std::optional<Nanos> parse_resolution_description(std::string_view text);
+// "response timeout 300 ms" anywhere in `text`.
+std::optional<Nanos> parse_timeout_description(std::string_view text);
 
 // "9600 8E1" anywhere in `text` (baud, 8 data bits, parity letter, stop bits).
 std::optional<LineSettings> parse_line_description(std::string_view text);

@@ -100,7 +100,7 @@ void LiveCapture::start() {
   if (recorder_ != nullptr) {
     for (auto& port : ports_) {
       recorder_->add_port(port->index, port->source.config().path, options_.line,
-                          port->source.status());
+                          port->source.status(), options_.response_timeout);
     }
     recorder_->flush();
   }
@@ -216,7 +216,10 @@ void LiveCapture::stop() {
     pipeline_->idle(now);
     pipeline_->finish();
   }
-  if (recorder_ != nullptr) recorder_->flush();
+  if (recorder_ != nullptr) {
+    recorder_->on_end(now);
+    recorder_->flush();
+  }
   summary_.duration = started_at_ != 0 ? now - started_at_ : 0;
 }
 

@@ -29,13 +29,16 @@ namespace rtu {
 class ChunkRecorder {
  public:
   virtual ~ChunkRecorder() = default;
-  // Called once per port before any chunk: its name and settings as opened.
+  // Called once per port before any chunk: its name and settings as opened, and the
+  // response timeout the capture is decoded with.
   virtual void add_port(std::size_t port, const std::string& name, const LineSettings& line,
-                        const SerialStatus& status) = 0;
+                        const SerialStatus& status, Nanos response_timeout) = 0;
   virtual void on_chunk(std::size_t port, const Chunk& chunk) = 0;
   // The port stopped delivering at `t` (unplugged); bytes may have been lost until it
   // comes back.
   virtual void on_gap(std::size_t port, Nanos t, const std::string& reason) = 0;
+  // The capture stopped at `t` (called once, before the last flush).
+  virtual void on_end(Nanos t) = 0;
   // Called at least every second and at the end: makes what was recorded durable.
   virtual void flush() = 0;
 };

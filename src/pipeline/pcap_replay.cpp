@@ -16,6 +16,7 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
   Nanos precision = 0;
   std::optional<LineSettings> declared;
   std::optional<Nanos> declared_resolution;
+  std::optional<Nanos> declared_timeout;
   {
     PcapImporter first(path);
     PcapItem item;
@@ -32,6 +33,7 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
     }
     declared = first.declared_settings();
     declared_resolution = first.declared_resolution();
+    declared_timeout = first.declared_timeout();
   }
   const bool use_raw = raw_chunks > 0;
 
@@ -54,6 +56,9 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
   }
   if (options.resolution) info.timing_resolution = *options.resolution;
   info.response_timeout = options.response_timeout;
+  // A live recording says which response timeout decided its timeouts; unless the user
+  // asks for another, replay uses the same.
+  if (declared_timeout && !options.response_timeout_set) info.response_timeout = *declared_timeout;
 
   // Pass 2: decode.
   PipelineOptions pipeline_options;
@@ -68,6 +73,12 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
   const Nanos char_time = info.line.char_time();
   try {
     while (second.next(item)) {
+      if (item.kind == PcapItem::Kind::kEnd) {
+        // A live recording ends where the live run stopped: what was pending then (a
+        // request still waiting for its answer) is decided as live decided it.
+        pipeline.idle(item.t_start);
+        continue;
+      }
       if (item.kind == PcapItem::Kind::kChunk) {
         if (!use_raw) continue;
         if (options.on_chunk) options.on_chunk(item.chunk);

@@ -20,6 +20,13 @@ RtacEvent event_for(std::uint8_t errors, RtacEvent data_event) {
   return data_event;
 }
 
+// "16 ms", "0.500000 ms": exact, and what parse_milliseconds_after reads back.
+std::string milliseconds_text(Nanos t) {
+  return t % kNanosPerMilli == 0
+             ? fmt::format("{} ms", t / kNanosPerMilli)
+             : fmt::format("{}.{:06} ms", t / kNanosPerMilli, t % kNanosPerMilli);
+}
+
 // Block overhead of an EPB without options, for the size limit (an estimate is enough).
 constexpr std::uint64_t kRecordOverhead = 32 + kRtacHeaderSize + 3;
 
@@ -60,14 +67,13 @@ PcapngRecorder::~PcapngRecorder() {
 }
 
 void PcapngRecorder::add_port(std::size_t port, const std::string& name, const LineSettings& line,
-                              const SerialStatus& status) {
+                              const SerialStatus& status, Nanos response_timeout) {
   if (ports_.size() <= port) ports_.resize(port + 1);
   ports_[port].name = name;
-  const Nanos r = status.resolution;
-  ports_[port].description = fmt::format(
-      "RS-485 {}; rtuscope live; timing resolution {}", line.describe(),
-      r % kNanosPerMilli == 0 ? fmt::format("{} ms", r / kNanosPerMilli)
-                              : fmt::format("{}.{:06} ms", r / kNanosPerMilli, r % kNanosPerMilli));
+  ports_[port].description =
+      fmt::format("RS-485 {}; rtuscope live; timing resolution {}; response timeout {}",
+                  line.describe(), milliseconds_text(status.resolution),
+                  milliseconds_text(response_timeout));
   if (writer_) {
     // A port added late (never happens in LiveCapture, which adds all first).
     interfaces_.resize(ports_.size());
@@ -145,6 +151,10 @@ void PcapngRecorder::on_chunk(std::size_t port, const Chunk& chunk) {
 
 void PcapngRecorder::on_gap(std::size_t port, Nanos t, const std::string& reason) {
   write(port, t, RtacEvent::kCaptureDataLost, {}, reason);
+}
+
+void PcapngRecorder::on_end(Nanos t) {
+  write(0, t, RtacEvent::kCaptureComplete, {}, "capture stopped");
 }
 
 void PcapngRecorder::flush() {

@@ -1,14 +1,16 @@
 #pragma once
 // Records a live capture as pcapng, chunk by chunk, exactly as read (FORMATS §2, §4):
 //  * one LINKTYPE_RTAC_SERIAL (250) interface per port, ns timestamps, if_name = the port,
-//    if_description = "RS-485 <baud> 8<parity><stop>; rtuscope live; timing resolution <r>"
-//    (the line settings and the resolution a replay needs to decode it the same way);
+//    if_description = "RS-485 <baud> 8<parity><stop>; rtuscope live; timing resolution <r>;
+//    response timeout <t>" (what a replay needs to decode it the same way);
 //  * every read as DATA_RX_START (with two ports: the first as DATA_TX_START, epb_flags
 //    outbound, the second as DATA_RX_START, inbound), time = its read completion; where
 //    line errors mark bytes, the read is split into PARITY_ERROR / FRAMING_ERROR /
 //    SERIAL_BREAK_EVENT / SERIAL_OVERFLOW_EVENT records holding those bytes, all with the
 //    read's time (importers join records of equal time back into one chunk);
-//  * a port that failed: CAPTURE_DATA_LOST with the reason as comment, at the failure time.
+//  * a port that failed: CAPTURE_DATA_LOST with the reason as comment, at the failure time;
+//  * the end of the capture: CAPTURE_COMPLETE at the stop time, so a replay decides what
+//    was still pending (a request waiting for its answer) exactly as the live run did.
 // Every record is handed to the file as a whole block and flushed at least every second by
 // LiveCapture, so `kill -9` loses at most the last second and leaves a readable file.
 //
@@ -43,9 +45,10 @@ class PcapngRecorder final : public ChunkRecorder {
   ~PcapngRecorder() override;
 
   void add_port(std::size_t port, const std::string& name, const LineSettings& line,
-                const SerialStatus& status) override;
+                const SerialStatus& status, Nanos response_timeout) override;
   void on_chunk(std::size_t port, const Chunk& chunk) override;
   void on_gap(std::size_t port, Nanos t, const std::string& reason) override;
+  void on_end(Nanos t) override;
   void flush() override;
 
   [[nodiscard]] std::uint64_t records() const { return records_; }

@@ -16,6 +16,9 @@ namespace rtu {
 struct ReplayOptions {
   LineOverrides overrides;
   Nanos response_timeout = 1000 * kNanosPerMilli;
+  // True when the user chose response_timeout (command line, bus file): it then wins over
+  // a timeout the capture file declares.
+  bool response_timeout_set = false;
   std::optional<Nanos> resolution;  // overrides the estimate
   // Sees every chunk of the decoding pass just before the pipeline does (raw exports).
   std::function<void(const Chunk&)> on_chunk;

@@ -144,7 +144,9 @@ def main():
             slave_cmd = [py, os.path.join(os.path.dirname(__file__), "pymodbus_slave.py")]
         else:
             slave_cmd = [args.slave]
-        slave = subprocess.Popen(slave_cmd + [slave_ep, str(SLAVE), str(BAUD), "E", "1"],
+        # pymodbus cannot open a pty with parity (see pymodbus_slave.py); a pty has none.
+        slave_parity = "N" if args.scenario == "pymodbus_slave" else "E"
+        slave = subprocess.Popen(slave_cmd + [slave_ep, str(SLAVE), str(BAUD), slave_parity, "1"],
                                  stdout=subprocess.PIPE, text=True)
         procs.append(slave)
         read_lines(slave, 1, "slave")

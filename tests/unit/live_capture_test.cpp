@@ -18,6 +18,7 @@
 #include "capture/pcap_reader.hpp"
 #include "capture/rtac_serial.hpp"
 #include "pipeline/pcapng_recorder.hpp"
+#include "pipeline/replay.hpp"
 #include "serial/virtual_bus.hpp"
 
 namespace rtu {
@@ -111,24 +112,29 @@ TEST_F(LiveCaptureTest, FramesArePrintedWhenTheLineGoesQuietAndRecorded) {
   EXPECT_EQ(capture.summary().bytes, 16U);
 
   // The file holds exactly the bytes read, on a LINKTYPE 250 interface that declares the
-  // line settings and the timing resolution.
+  // line settings and the timing resolution, then the end of the capture.
   PcapReader reader(file);
   CapturePacket packet;
   std::vector<std::uint8_t> recorded;
-  std::size_t packets = 0;
+  std::vector<std::uint8_t> events;
   while (reader.next(packet)) {
-    ++packets;
     EXPECT_EQ(packet.link_type, 250);
     EXPECT_NE(packet.interface_description.find("19200 8E1"), std::string::npos);
     EXPECT_NE(packet.interface_description.find("timing resolution 1 ms"), std::string::npos);
+    EXPECT_NE(packet.interface_description.find("response timeout 1000 ms"), std::string::npos);
     EXPECT_EQ(packet.interface_name, bus.paths()[2]);
     std::string error;
     const auto rec = parse_rtac_record(packet.data, error);
     ASSERT_TRUE(rec.has_value()) << error;
-    EXPECT_EQ(rec->event, static_cast<std::uint8_t>(RtacEvent::kDataRxStart));
+    events.push_back(rec->event);
     recorded.insert(recorded.end(), rec->payload.begin(), rec->payload.end());
   }
-  EXPECT_EQ(packets, capture.summary().chunks);
+  ASSERT_EQ(events.size(), capture.summary().chunks + 1);
+  EXPECT_EQ(events.back(), static_cast<std::uint8_t>(RtacEvent::kCaptureComplete));
+  events.pop_back();
+  for (const std::uint8_t e : events) {
+    EXPECT_EQ(e, static_cast<std::uint8_t>(RtacEvent::kDataRxStart));
+  }
   std::vector<std::uint8_t> both = kFirst;
   both.insert(both.end(), kSecond.begin(), kSecond.end());
   EXPECT_EQ(recorded, both);
@@ -191,6 +197,43 @@ TEST_F(LiveCaptureTest, UnpluggedPortIsReopenedAndTheGapIsRecorded) {
   EXPECT_TRUE(lost);
 }
 
+// A request nobody answers times out live once the response timeout has passed with the
+// line quiet. The recording ends with the stop time, so its replay decides the same.
+TEST_F(LiveCaptureTest, RequestTimedOutLiveTimesOutOnReplayToo) {
+  VirtualBusOptions bus_options;
+  bus_options.line = LineSettings{19200, Parity::kNone, 1};
+  VirtualBus bus(bus_options);
+  bus.start();
+  const std::string file = (dir_ / "timeout.pcapng").string();
+  PcapngRecorder recorder(file);
+  CollectingSink sink;
+  LiveOptions options;
+  options.ports = {bus.paths()[2]};
+  options.line = bus_options.line;
+  options.response_timeout = 100 * kNanosPerMilli;
+  boost::asio::io_context io;
+  SystemClock clock;
+  LiveCapture capture(io, clock, options, sink, &recorder, [](const std::string&) {});
+  capture.start();
+  const int master = open_raw(bus.paths()[0]);
+  const std::vector<std::uint8_t> request = with_crc({0x05, 0x03, 0x00, 0x00, 0x00, 0x02});
+  ASSERT_EQ(::write(master, request.data(), request.size()), 8);
+  ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 1; }));
+  capture.stop();
+  ::close(master);
+  bus.stop();
+  ASSERT_EQ(sink.records.size(), 1U);
+  EXPECT_TRUE(sink.records[0].issues.has(IssueId::kTimeout));
+
+  // The recording declares its response timeout: replay uses it, not the 1 s default.
+  ReplayOptions replay_options;
+  CollectingSink replayed;
+  replay_capture(file, replay_options, replayed);
+  ASSERT_EQ(replayed.records.size(), 1U);
+  EXPECT_TRUE(replayed.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_EQ(replayed.records[0].t_start, sink.records[0].t_start);
+}
+
 TEST(Rotation, SizesAndDurationsParse) {
   EXPECT_EQ(parse_rotation("100MB").max_bytes, 100'000'000U);
   EXPECT_EQ(parse_rotation("2gb").max_bytes, 2'000'000'000U);
@@ -211,7 +254,7 @@ TEST(Rotation, NewFilesStartAtTheLimitAndOnlyTheNewestAreKept) {
     PcapngRecorder recorder((dir / "cap.pcapng").string(), policy);
     SerialStatus status;
     status.resolution = kNanosPerMilli;
-    recorder.add_port(0, "/dev/ttyX", LineSettings{}, status);
+    recorder.add_port(0, "/dev/ttyX", LineSettings{}, status, kNanosPerSecond);
     const std::vector<std::uint8_t> bytes = {1, 2, 3};
     for (int s = 0; s < 5; ++s) {
       Chunk chunk;

@@ -31,6 +31,9 @@ TEST(PcapImport, LineSettingsAndResolutionFromTheInterfaceDescription) {
   EXPECT_FALSE(parse_line_description("RS-485 bus"));
   EXPECT_FALSE(parse_line_description("x9600 8E1"));
   EXPECT_FALSE(parse_resolution_description("timing resolution fine"));
+  EXPECT_EQ(parse_timeout_description("timing resolution 1 ms; response timeout 300 ms"),
+            300 * kNanosPerMilli);
+  EXPECT_FALSE(parse_timeout_description("timing resolution 1 ms"));
 }
 
 struct TempFile {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "app/device_options.hpp"
 #include "capture/input_error.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -36,6 +37,7 @@ namespace {
 
 struct DemoArgs {
   std::string traffic;
+  DeviceOptions devices;
   std::string format = "text";
   std::string write_path;
   unsigned repeat = 1;
@@ -62,10 +64,12 @@ class BurstCollector final : public RecordSink {
   Nanos first_ = kUnknownTime;
 };
 
-std::string default_traffic() {
+// The bundled traffic: the simulator's master polling the four documented devices
+// (slaves 1-4), with a few faults, and the bus file that says which slave is which.
+std::filesystem::path default_traffic() {
   const std::filesystem::path sources =
       std::filesystem::path(RTUSCOPE_DISSECTORS_DIR).parent_path();
-  return (sources / "captures" / "device_examples.hex").string();
+  return sources / "captures" / "demo_four_devices.hex";
 }
 
 int open_endpoint(const std::string& path) {
@@ -99,10 +103,19 @@ void play(const std::vector<Burst>& bursts, unsigned repeat, int master_fd, int 
   std::this_thread::sleep_until(next + std::chrono::milliseconds(300));
 }
 
-void run_demo(const DemoArgs& args, int& exit_code) {
-  const std::string traffic = args.traffic.empty() ? default_traffic() : args.traffic;
+void run_demo(DemoArgs& args, int& exit_code) {
+  std::string traffic = args.traffic;
+  if (traffic.empty()) {
+    traffic = default_traffic().string();
+    if (args.devices.devices.empty() && args.devices.bus_file.empty()) {
+      args.devices.bus_file = default_traffic().replace_extension(".bus.toml").string();
+    }
+  }
+  ReplayOptions replay;
+  const auto devices = args.devices.build(replay);
+  FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
   BurstCollector collector;
-  const CaptureInfo traffic_info = replay_capture(traffic, ReplayOptions{}, collector);
+  const CaptureInfo traffic_info = replay_capture(traffic, replay, collector);
   if (collector.bursts.empty()) throw InputError(fmt::format("{}: no traffic to play", traffic));
 
   VirtualBusOptions bus_options;
@@ -118,9 +131,9 @@ void run_demo(const DemoArgs& args, int& exit_code) {
   OutputStream out("-");
   std::unique_ptr<RecordSink> writer;
   if (args.format == "jsonl") {
-    writer = std::make_unique<JsonlWriter>(out, nullptr, true);
+    writer = std::make_unique<JsonlWriter>(out, annotator, true);
   } else {
-    writer = std::make_unique<TextWriter>(out, nullptr, true);
+    writer = std::make_unique<TextWriter>(out, annotator, true);
   }
   std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) recorder = std::make_unique<PcapngRecorder>(args.write_path);
@@ -128,6 +141,7 @@ void run_demo(const DemoArgs& args, int& exit_code) {
   LiveOptions options;
   options.ports = {bus.paths()[2]};
   options.line = traffic_info.line;
+  options.response_timeout = replay.response_timeout;
   boost::asio::io_context io;
   SystemClock clock;
   LiveCapture capture(io, clock, options, *writer, recorder.get(),
@@ -192,6 +206,7 @@ void setup_demo(CLI::App& app, int& exit_code) {
   cmd->add_option("--traffic", args->traffic,
                   "Capture whose frames are played on the bus (default: the bundled "
                   "four-device sample)");
+  args->devices.add_to(*cmd);
   cmd->add_option("--format", args->format, "Output format")
       ->check(CLI::IsMember({"text", "jsonl"}));
   cmd->add_option("-w,--write", args->write_path, "Also record the demo to this pcapng file");

@@ -43,4 +43,29 @@ void append_millis(fmt::memory_buffer& out, Nanos t) {
   append_fixed(out, t, kNanosPerMilli, 3);
 }
 
+void append_utc_date(fmt::memory_buffer& out, Nanos t) {
+  // Civil date from a day count (Howard Hinnant's days_from_civil, inverted).
+  const Nanos z = utc_day(t) + 719468;
+  const Nanos era = (z >= 0 ? z : z - 146096) / 146097;
+  const Nanos doe = z - era * 146097;
+  const Nanos yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+  const Nanos doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+  const Nanos mp = (5 * doy + 2) / 153;
+  const Nanos day = doy - (153 * mp + 2) / 5 + 1;
+  const Nanos month = mp < 10 ? mp + 3 : mp - 9;
+  const Nanos year = yoe + era * 400 + (month <= 2 ? 1 : 0);
+  fmt::format_to(std::back_inserter(out), "{:04}-{:02}-{:02}", year, month, day);
+}
+
+void append_utc_time_of_day(fmt::memory_buffer& out, Nanos t, int decimals) {
+  constexpr Nanos kDay = 86'400 * kNanosPerSecond;
+  const Nanos in_day = t - utc_day(t) * kDay;
+  const Nanos seconds = in_day / kNanosPerSecond;
+  fmt::format_to(std::back_inserter(out), "{:02}:{:02}:", seconds / 3600, seconds / 60 % 60);
+  fmt::memory_buffer s;
+  append_seconds(s, in_day % (60 * kNanosPerSecond), decimals);
+  if (in_day % (60 * kNanosPerSecond) < 10 * kNanosPerSecond) out.push_back('0');
+  out.append(s);
+}
+
 }  // namespace rtu

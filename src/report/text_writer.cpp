@@ -64,13 +64,25 @@ void TextWriter::on_record(Record& record) {
   if (is_frame && annotator_ != nullptr) annotator_->annotate(record);
   buffer_.clear();
   auto it = std::back_inserter(buffer_);
+  if (record.t_start >= kWallClockFrom && utc_day(record.t_start) != shown_day_) {
+    // Wall-clock times (live, pcap) read best as the time of day; a line names the date
+    // before the first record and whenever it changes.
+    shown_day_ = utc_day(record.t_start);
+    buffer_.append(std::string_view("# "));
+    append_utc_date(buffer_, record.t_start);
+    buffer_.append(std::string_view(" (UTC): times are the time of day\n"));
+  }
   const std::size_t start = buffer_.size();
   buffer_.push_back(' ');
   buffer_.push_back(' ');
   pad_to(buffer_, start, 2);
   {
     fmt::memory_buffer t;
-    append_seconds(t, record.t_start, 6);
+    if (record.t_start >= kWallClockFrom) {
+      append_utc_time_of_day(t, record.t_start, 6);
+    } else {
+      append_seconds(t, record.t_start, 6);
+    }
     fmt::format_to(it, "{:>18}", std::string_view(t.data(), t.size()));
   }
   if (record.gap_before == kUnknownTime) {

@@ -24,6 +24,7 @@ class TextWriter : public RecordSink {
   FrameAnnotator* annotator_;
   bool flush_each_;
   fmt::memory_buffer buffer_;
+  Nanos shown_day_ = kUnknownTime;  // UTC day of the last date line (wall-clock captures)
 };
 
 // The frame's readable summary (what it asks or answers), without device annotations.

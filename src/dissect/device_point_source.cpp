@@ -15,10 +15,6 @@ double to_decimals(double value, int decimals) {
 
 }  // namespace
 
-std::string_view model_origin_name(ModelOrigin origin) {
-  return origin == ModelOrigin::kIdentified ? "identified" : "configured";
-}
-
 void DevicePointSource::assign(std::uint8_t slave, const DeviceMap& map, ModelOrigin origin) {
   Slave& s = slaves_[slave];
   s.map = &map;

@@ -25,7 +25,6 @@ enum class ModelOrigin : std::uint8_t {
   kConfigured,  // --device, --bus
   kIdentified,  // ranked first by the MapIdentifier, confidently
 };
-std::string_view model_origin_name(ModelOrigin origin);  // "configured", "identified"
 
 class DevicePointSource : public PointSource {
  public:

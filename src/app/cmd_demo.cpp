@@ -8,6 +8,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
@@ -17,12 +18,15 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
+#include "app/report_points.hpp"
+#include "app/run_report.hpp"
 #include "capture/input_error.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -40,6 +44,7 @@ struct DemoArgs {
   DeviceOptions devices;
   std::string format = "text";
   std::string write_path;
+  std::string report;
   unsigned repeat = 1;
 };
 
@@ -84,19 +89,27 @@ int open_endpoint(const std::string& path) {
 }
 
 // Plays the bursts at their pace (long silences shortened to 200 ms) until done or stop.
+// A burst is never written before the previous one has left the wire: when this thread
+// runs late (a loaded machine), bursts from the master's and the slaves' endpoints would
+// otherwise wait side by side and the bus could take them in the wrong order.
 void play(const std::vector<Burst>& bursts, unsigned repeat, int master_fd, int slave_fd,
-          const std::atomic<bool>& stop) {
+          Nanos char_time, const std::atomic<bool>& stop) {
   constexpr Nanos kMaxSilence = 200 * kNanosPerMilli;
   auto next = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
+  auto wire_free = next;
   for (unsigned round = 0; round < repeat && !stop; ++round) {
     Nanos previous = 0;
     for (const auto& burst : bursts) {
       if (stop) return;
       next += std::chrono::nanoseconds(std::min(burst.at - previous, kMaxSilence));
       previous = burst.at;
+      next = std::max(next, wire_free);
       std::this_thread::sleep_until(next);
       const int fd = burst.from_slave ? slave_fd : master_fd;
       [[maybe_unused]] const auto n = ::write(fd, burst.bytes.data(), burst.bytes.size());
+      // On the wire until then, plus a character of margin for the bus to pick it up.
+      wire_free = std::chrono::steady_clock::now() +
+                  std::chrono::nanoseconds(char_time * static_cast<Nanos>(burst.bytes.size() + 1));
     }
     next += std::chrono::milliseconds(100);
   }
@@ -112,8 +125,9 @@ void run_demo(DemoArgs& args, int& exit_code) {
     }
   }
   ReplayOptions replay;
-  const auto devices = args.devices.build(replay);
-  FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
+  const auto points = build_report_points(args.devices, replay);
+  const bool named = !args.devices.devices.empty() || !args.devices.bus_file.empty();
+  FrameAnnotator* annotator = named ? &points->maps->annotator : nullptr;
   BurstCollector collector;
   const CaptureInfo traffic_info = replay_capture(traffic, replay, collector);
   if (collector.bursts.empty()) throw InputError(fmt::format("{}: no traffic to play", traffic));
@@ -137,6 +151,12 @@ void run_demo(DemoArgs& args, int& exit_code) {
   }
   std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) recorder = std::make_unique<PcapngRecorder>(args.write_path);
+  std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
+  if (!args.report.empty()) report_out.emplace(args.report);
+  RunReport report(*points);
+  RecordFanout sinks;
+  sinks.add(*writer);
+  sinks.add(report.sink());
 
   LiveOptions options;
   options.ports = {bus.paths()[2]};
@@ -144,7 +164,7 @@ void run_demo(DemoArgs& args, int& exit_code) {
   options.response_timeout = replay.response_timeout;
   boost::asio::io_context io;
   SystemClock clock;
-  LiveCapture capture(io, clock, options, *writer, recorder.get(),
+  LiveCapture capture(io, clock, options, sinks, recorder.get(),
                       [](const std::string& m) { fmt::print(stderr, "rtuscope demo: {}\n", m); });
   capture.start();
 
@@ -153,7 +173,8 @@ void run_demo(DemoArgs& args, int& exit_code) {
   std::atomic<bool> stop_playing{false};
   std::atomic<bool> played{false};
   std::thread player([&] {
-    play(collector.bursts, args.repeat, master_fd, slave_fd, stop_playing);
+    play(collector.bursts, args.repeat, master_fd, slave_fd, traffic_info.line.char_time(),
+         stop_playing);
     played = true;
   });
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -192,6 +213,13 @@ void run_demo(DemoArgs& args, int& exit_code) {
              "records\n",
              to_seconds(s.duration), written, s.bytes, s.chunks, s.frames, s.frames_with_issues,
              s.transactions, s.timeouts, s.noise_records);
+  report.finish();
+  report.print_findings(stderr, 3);
+  if (report_out) {
+    report.write(*report_out, report_format_for(args.report));
+    report_out->flush();
+    fmt::print(stderr, "rtuscope demo: report written to {}\n", args.report);
+  }
   if (recorder) {
     fmt::print(stderr, "rtuscope demo: recorded to {} (replay: rtuscope decode {})\n",
                args.write_path, args.write_path);
@@ -210,6 +238,8 @@ void setup_demo(CLI::App& app, int& exit_code) {
   cmd->add_option("--format", args->format, "Output format")
       ->check(CLI::IsMember({"text", "jsonl"}));
   cmd->add_option("-w,--write", args->write_path, "Also record the demo to this pcapng file");
+  cmd->add_option("--report", args->report,
+                  "Also write the run's traffic report to this file (.html, .json, else text)");
   cmd->add_option("--repeat", args->repeat, "Play the traffic this many times (default 1)")
       ->check(CLI::Range(1U, 1000U));
   cmd->callback([args, &exit_code] { run_demo(*args, exit_code); });

@@ -6,12 +6,15 @@
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
+#include "app/report_points.hpp"
+#include "app/run_report.hpp"
 #include "capture/input_error.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -32,6 +35,8 @@ struct LiveArgs {
   std::string write_path;
   std::string rotate;
   std::size_t keep = 0;
+  std::string report;
+  std::string report_format;
 };
 
 void print_summary(const LiveSummary& s) {
@@ -47,8 +52,9 @@ void print_summary(const LiveSummary& s) {
 void run_live(const LiveArgs& args, int& exit_code) {
   // Line settings: the command line, else the --bus file, else Modbus's 9600 8E1.
   ReplayOptions line = args.line.to_replay_options();
-  const auto devices = args.devices.build(line);
-  FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
+  const auto points = build_report_points(args.devices, line);
+  const bool named = !args.devices.devices.empty() || !args.devices.bus_file.empty();
+  FrameAnnotator* annotator = named ? &points->maps->annotator : nullptr;
   LiveOptions options;
   options.ports = args.ports;
   options.line.baud = line.overrides.baud.value_or(options.line.baud);
@@ -75,9 +81,20 @@ void run_live(const LiveArgs& args, int& exit_code) {
     throw InputError("--rotate and --keep need -w FILE.pcapng");
   }
 
+  // Frames go to the screen (or -o) and, with --report, to the report's statistics.
+  RecordFanout sinks;
+  sinks.add(*writer);
+  std::optional<RunReport> report;
+  std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
+  if (!args.report.empty()) {
+    report_out.emplace(args.report);
+    report.emplace(*points);
+    sinks.add(report->sink());
+  }
+
   boost::asio::io_context io;
   SystemClock clock;
-  LiveCapture capture(io, clock, options, *writer, recorder.get(),
+  LiveCapture capture(io, clock, options, sinks, recorder.get(),
                       [](const std::string& m) { fmt::print(stderr, "rtuscope: {}\n", m); });
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int) {
@@ -93,6 +110,14 @@ void run_live(const LiveArgs& args, int& exit_code) {
   if (recorder) {
     fmt::print(stderr, "rtuscope: {} records written to {}\n", recorder->records(),
                fmt::join(recorder->files(), ", "));
+  }
+  if (report) {
+    report->finish();
+    report->print_findings(stderr, 3);
+    report->write(*report_out, args.report_format.empty() ? report_format_for(args.report)
+                                                          : args.report_format);
+    report_out->flush();
+    fmt::print(stderr, "rtuscope: report written to {}\n", args.report);
   }
   exit_code = 0;
 }
@@ -119,6 +144,12 @@ void setup_live(CLI::App& app, int& exit_code) {
   cmd->add_option("--rotate", args->rotate,
                   "Start a new file at this size or age (e.g. 100MB, 1h); files get -0001, ...");
   cmd->add_option("--keep", args->keep, "With --rotate: keep only the newest N files");
+  cmd->add_option("--report", args->report,
+                  "When the run stops, write its traffic report to this file (as `rtuscope "
+                  "report` would) and list the main findings");
+  cmd->add_option("--report-format", args->report_format,
+                  "Report format (default: from the file name: .html, .json, else text)")
+      ->check(CLI::IsMember({"text", "json", "html"}));
   cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
 }
 

@@ -129,6 +129,7 @@ def main():
     log = os.path.join(args.work, "bus.hex")
     pcapng = os.path.join(args.work, "live.pcapng")
     live_out = os.path.join(args.work, "live.jsonl")
+    report_path = os.path.join(args.work, "report.json")
 
     vbus_cmd = [args.vbus, "-n", "3", "--baud", str(BAUD), "--parity", "E", "--log", log]
     if args.scenario == "usb_chunking":
@@ -152,7 +153,7 @@ def main():
         read_lines(slave, 1, "slave")
         live = subprocess.Popen([args.rtuscope, "live", sniff_ep, "--baud", str(BAUD),
                                  "--parity", "E", "--format", "jsonl", "-o", live_out,
-                                 "-w", pcapng, "--timeout-ms", "300"],
+                                 "-w", pcapng, "--timeout-ms", "300", "--report", report_path],
                                 stderr=subprocess.PIPE, text=True)
         procs.append(live)
         notes = wait_for_stderr(live, "listening on", "rtuscope live")
@@ -219,7 +220,20 @@ def main():
     if functions != [1, 2, 3, 4, 5, 6, 15, 16]:
         fail(f"function codes seen: {functions}")
 
-    # 4. The recording replays to the same records.
+    # 4. The report written when the run stopped counts what was printed.
+    with open(report_path) as f:
+        report = json.load(f)
+    slave = report["slaves"][str(SLAVE)]
+    absent = report["slaves"][str(ABSENT)]
+    if (slave["requests"] != len(requests) - 1 or slave["responses"] != answered
+            or slave["timeouts"] != 0 or absent["timeouts"] != 1
+            or report["totals"]["frames"] != len(frames)):
+        fail(f"report disagrees with the records: totals {report['totals']}, "
+             f"slave {SLAVE} {slave}, slave {ABSENT} {absent}")
+    if slave["latency_ms"] is None or slave["latency_ms"]["max"] <= 0:
+        fail(f"report has no latency for slave {SLAVE}: {slave['latency_ms']}")
+
+    # 5. The recording replays to the same records.
     replay = subprocess.run([args.rtuscope, "decode", pcapng, "--format", "jsonl"],
                             capture_output=True, text=True, timeout=60)
     if replay.returncode != 0 and "pcap import is not available" in replay.stderr:

@@ -1,0 +1,49 @@
+#pragma once
+// The report of a capture taken live (`rtuscope live --report`, `rtuscope demo`): statistics
+// gathered while the records pass by, with the same device points as `rtuscope report`.
+// Slaves no option names are identified from the traffic seen during the run, so their
+// models are known by the time the report is written (their values are named from then on:
+// a live run cannot look ahead).
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/report_points.hpp"
+#include "dissect/map_identifier.hpp"
+#include "pipeline/record_fanout.hpp"
+#include "report/findings.hpp"
+#include "report/output_stream.hpp"
+#include "report/traffic_stats.hpp"
+
+namespace rtu::app {
+
+class RunReport {
+ public:
+  // `points` (from build_report_points) must outlive the report.
+  explicit RunReport(ReportPoints& points);
+
+  // Where the run's records go (statistics and identification).
+  [[nodiscard]] RecordSink& sink() { return fanout_; }
+
+  // Identifies unnamed slaves and ranks the findings; call once, after the run stopped.
+  void finish();
+  [[nodiscard]] const std::vector<Finding>& findings() const { return findings_; }
+
+  // Writes the whole report as `format` ("text", "json" or "html").
+  void write(OutputStream& out, const std::string& format) const;
+  // The `limit` most important findings, one line each (for the end of a run on screen).
+  void print_findings(std::FILE* out, std::size_t limit) const;
+
+ private:
+  ReportPoints& points_;
+  TrafficStats stats_;
+  dissect::MapIdentifier identifier_;
+  RecordFanout fanout_;
+  std::vector<Finding> findings_;
+};
+
+// "html", "json" or "text" for a report file name.
+std::string report_format_for(const std::string& path);
+
+}  // namespace rtu::app

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs what rtuscope needs (Debian 12), builds it in Release, and runs the demo
-# (a virtual RS-485 bus with simulated devices, sniffed live; no hardware needed). Run as root or with sudo: sudo bash tools/quickstart.sh
+# Installs what rtuscope needs (Debian 12), builds it in Release, and runs the demo (a
+# virtual RS-485 bus with simulated devices, sniffed live; no hardware needed).
+# Run as root or with sudo: sudo bash tools/quickstart.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh

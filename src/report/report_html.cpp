@@ -118,8 +118,12 @@ void header(Out& o, const TrafficStats& stats) {
   put(o, "<header><h1>Modbus RTU bus report</h1><div class=\"meta\">");
   text(o, info.source);
   put(o, " &middot; {} &middot; ", escaped(info.line.describe()));
-  if (t.first_t != kUnknownTime && svg::is_wall_clock(t.first_t)) {
-    put(o, "from {} UTC, ", svg::date_time_text(t.first_t));
+  if (t.first_t != kUnknownTime && t.first_t >= kWallClockFrom) {
+    Out b;
+    append_utc_date(b, t.first_t);
+    b.push_back(' ');
+    append_utc_time_of_day(b, t.first_t, 0);
+    put(o, "from {} UTC, ", fmt::to_string(b));
   } else if (t.first_t != kUnknownTime) {
     Out b;
     append_seconds(b, t.first_t, 3);

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
+
+#include "core/time_format.hpp"
 
 namespace rtu::svg {
 
@@ -93,18 +94,17 @@ Nanos floor_div(Nanos a, Nanos b) {
   return a / b - ((a % b != 0) && ((a < 0) != (b < 0)) ? 1 : 0);
 }
 
+// A tick on a wall clock: a date for day steps, "14:05" for minute steps, else "14:05:30"
+// with the decimals the step needs.
 std::string time_of_day(Nanos t, Nanos step) {
-  const Nanos day_ns = t - floor_div(t, kDay) * kDay;
-  const Nanos secs = day_ns / kNs;
-  if (step >= kDay) return date_time_text(t).substr(0, 10);
-  if (step >= 60 * kNs) return fmt::format("{:02d}:{:02d}", secs / 3600, secs / 60 % 60);
-  std::string out = fmt::format("{:02d}:{:02d}:{:02d}", secs / 3600, secs / 60 % 60, secs % 60);
-  const int d = step_decimals(step);
-  if (d > 0) {
-    const std::string frac = fmt::format("{:09d}", day_ns % kNs);
-    out += "." + frac.substr(0, static_cast<std::size_t>(d));
+  fmt::memory_buffer out;
+  if (step >= kDay) {
+    append_utc_date(out, t);
+  } else {
+    append_utc_time_of_day(out, t, step_decimals(step));
+    if (step >= 60 * kNs) out.resize(5);  // "14:05"
   }
-  return out;
+  return fmt::to_string(out);
 }
 
 std::string since_start(Nanos t, Nanos step) {
@@ -121,26 +121,13 @@ std::string since_start(Nanos t, Nanos step) {
 
 }  // namespace
 
-bool is_wall_clock(Nanos t_ns) {
-  // From 10^9 s (2001-09-09): no capture counting from zero runs for 31 years.
-  return t_ns >= 1'000'000'000 * kNs;
-}
-
-std::string date_time_text(Nanos t_ns) {
-  const std::time_t secs = static_cast<std::time_t>(floor_div(t_ns, kNs));
-  std::tm tm{};
-  if (gmtime_r(&secs, &tm) == nullptr) return "?";
-  return fmt::format("{:04d}-{:02d}-{:02d} {:02d}:{:02d}:{:02d}", tm.tm_year + 1900, tm.tm_mon + 1,
-                     tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec);
-}
-
 std::string_view TimeAxis::caption() const {
   return wall_clock ? "time of day (UTC)" : "time from the start";
 }
 
 TimeAxis time_axis(Nanos origin_ns, double span, int target) {
   TimeAxis axis;
-  axis.wall_clock = is_wall_clock(origin_ns);
+  axis.wall_clock = origin_ns >= kWallClockFrom;
   if (!(span > 0) || target < 1) {
     axis.ticks.push_back(0);
     axis.labels.push_back(axis.wall_clock ? time_of_day(origin_ns, kNs) : "0");

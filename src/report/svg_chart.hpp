@@ -23,8 +23,9 @@ std::string tick_label(double v);
 // The ticks of a time axis over [0, span] seconds from `origin` (a time on the input's
 // clock). Steps come from the clock's own ladder (1-2-5 below a second, then 1, 2, 5, 10,
 // 15, 30 s, 1, 2, 5, 10, 15, 30 min, 1, 2, 3, 6, 12 h, days), about `target` of them.
-// On a wall clock (is_wall_clock) ticks sit on round times of day and read "14:05:30"
-// (UTC); otherwise they read the time since the start: "0", "30 s", "2 min", "1 h 15".
+// On a wall clock (origin ≥ kWallClockFrom, core/time_format.hpp) ticks sit on round times of day
+// and read "14:05:30" (UTC); otherwise they read the time since the start: "0", "30 s", "2 min", "1
+// h 15".
 struct TimeAxis {
   std::vector<double> ticks;  // seconds from origin
   std::vector<std::string> labels;
@@ -32,11 +33,6 @@ struct TimeAxis {
   [[nodiscard]] std::string_view caption() const;  // "time of day (UTC)", "time from start"
 };
 TimeAxis time_axis(Nanos origin_ns, double span, int target);
-// Whether a time on the input's clock is Unix time (from 2001-09-09 on): pcap and
-// live captures stamp wall-clock time; text captures usually count from zero.
-bool is_wall_clock(Nanos t_ns);
-// "2026-11-23 08:15:04" (UTC) for a wall-clock time.
-std::string date_time_text(Nanos t_ns);
 
 // A plot area inside an SVG element of width × height with margins for axes.
 struct Frame {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/time_format.hpp"
 #include "dissect/map_identifier.hpp"
 #include "dissect_test_support.hpp"
 #include "report/findings.hpp"
@@ -268,8 +269,7 @@ TEST(TimeAxis, SecondsFromTheStartOnRoundSteps) {
 TEST(TimeAxis, WallClockTicksSitOnRoundTimesOfDay) {
   // 2026-11-23 08:15:04.5 UTC
   const Nanos start = 1'795'421'704 * kNanosPerSecond + 500 * kNanosPerMilli;
-  ASSERT_TRUE(svg::is_wall_clock(start));
-  EXPECT_EQ(svg::date_time_text(start), "2026-11-23 08:15:04");
+  ASSERT_GE(start, kWallClockFrom);
   const svg::TimeAxis axis = svg::time_axis(start, 600, 5);
   EXPECT_TRUE(axis.wall_clock);
   EXPECT_EQ(axis.labels, (std::vector<std::string>{"08:16", "08:18", "08:20", "08:22", "08:24"}));

@@ -341,15 +341,13 @@ void exception_rule(const TrafficStats& stats, Builder& b) {
         kind.has_range ? fmt::format("FC{:02d} at 0x{:04X} ×{}", kind.function, kind.addr, kind.qty)
                        : fmt::format("FC{:02d}", kind.function);
     // A device with its own exception table (its map says so) means something else by 01-03.
-    const SlaveStats* slave = stats.slave(kind.slave);
-    const bool vendor = slave != nullptr && slave->device_exception_names.count(code) > 0;
-    const std::string_view name =
-        slave != nullptr ? slave->exception_name(code) : exception_name(code);
+    const bool vendor = stats.device_exception(kind.slave, code);
+    const std::string_view name = stats.exception_name(kind.slave, code);
     f.summary = fmt::format("slave {} answered {} of {} requests {} with exception {} ({})",
                             kind.slave, k.exceptions, k.responses, what, code, name);
     if (vendor) {
       f.cause = fmt::format("the {} reports its own exception {:02X} ({}): see its manual",
-                            slave->device, code, name);
+                            stats.device_model(kind.slave), code, name);
     } else {
       f.cause = code == 0x02 || code == 0x01 || code == 0x03
                     ? "the master asks for registers or a function this device does not have: "

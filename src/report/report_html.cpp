@@ -327,13 +327,14 @@ void utilisation_chart(Out& o, const TrafficStats& stats) {
       stats.totals().utilisation() * 100.0, xt.caption());
 }
 
-std::string device_cell(const SlaveStats& s) {
-  if (s.device.empty()) return "&ndash;";
-  if (!s.device_identified) return escaped(s.device);
+std::string device_cell(const TrafficStats& stats, std::uint8_t address) {
+  const std::string_view model = stats.device_model(address);
+  if (model.empty()) return "&ndash;";
+  if (!stats.device_model_identified(address)) return escaped(model);
   return fmt::format(
       "{}<div class=\"sub\" title=\"recognised from the traffic; name it with --device or "
       "--bus\">identified</div>",
-      escaped(s.device));
+      escaped(model));
 }
 
 void slave_table(Out& o, const TrafficStats& stats) {
@@ -351,9 +352,10 @@ void slave_table(Out& o, const TrafficStats& stats) {
         "<tr id=\"slave-{}\"><td class=\"l\">{}</td><td class=\"l\">{}</td><td "
         "class=\"req\">{}</td>"
         "<td class=\"rsp\">{}</td>{}{}{}{}{}",
-        a, a, device_cell(*s), s->requests, s->responses, count_cell(s->exceptions, true),
-        count_cell(s->timeouts, true), count_cell(s->crc_errors, true),
-        count_cell(s->unsolicited, true), count_cell(s->wrong_slave, true));
+        a, a, device_cell(stats, static_cast<std::uint8_t>(a)), s->requests, s->responses,
+        count_cell(s->exceptions, true), count_cell(s->timeouts, true),
+        count_cell(s->crc_errors, true), count_cell(s->unsolicited, true),
+        count_cell(s->wrong_slave, true));
     if (s->latency.empty()) {
       put(o, "<td colspan=\"5\" class=\"num0\">no timed answers</td>");
     } else {
@@ -373,7 +375,7 @@ void slave_table(Out& o, const TrafficStats& stats) {
       put(o,
           "<tr><td></td><td class=\"l\" colspan=\"14\" style=\"color:var(--muted)\">exception "
           "{:02X} {} &times;{}</td></tr>",
-          code, escaped(s->exception_name(code)), n);
+          code, escaped(stats.exception_name(static_cast<std::uint8_t>(a), code)), n);
     }
   }
   put(o, "</tbody></table></div></section>");
@@ -412,8 +414,9 @@ void latency_histograms(Out& o, const TrafficStats& stats) {
     f.x_lo = lo;
     f.x_hi = hi;
     f.y_hi = std::max(4.0, static_cast<double>(peak));  // whole-number count ticks
+    const std::string_view model = stats.device_model(static_cast<std::uint8_t>(a));
     put(o, "<div class=\"small\"><h3>slave {}{}{} &middot; {} answers</h3>", a,
-        s->device.empty() ? "" : " &middot; ", escaped(s->device), h.count());
+        model.empty() ? "" : " &middot; ", escaped(model), h.count());
     svg::open(o, f, fmt::format("latency histogram of slave {}", a), "hist");
     const auto yt = svg::nice_ticks(0, f.y_hi, 3);
     svg::axes(
@@ -556,11 +559,10 @@ void points_section(Out& o, const TrafficStats& stats) {
     const auto yt = svg::nice_ticks(p.min, p.max, 3);
     f.y_lo = std::min(f.y_lo, yt.front());
     f.y_hi = std::max(f.y_hi, yt.back());
-    const SlaveStats* slave = stats.slave(key.first);
-    const bool model = slave != nullptr && !slave->device.empty();
+    const std::string_view model = stats.device_model(key.first);
     put(o, "<div class=\"small\"><h3>slave {}{}{}{} &middot; {}{}{}</h3>", key.first,
-        model ? " (" : "", model ? escaped(slave->device) : "", model ? ")" : "",
-        escaped(key.second), p.unit.empty() ? "" : " &middot; ", escaped(p.unit));
+        model.empty() ? "" : " (", escaped(model), model.empty() ? "" : ")", escaped(key.second),
+        p.unit.empty() ? "" : " &middot; ", escaped(p.unit));
     svg::open(o, f, fmt::format("slave {} {} over time", key.first, key.second), "point");
     svg::y_axis(o, f, yt, "");
     svg::x_axis(o, f, xt.ticks, xt.labels);

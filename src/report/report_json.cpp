@@ -126,15 +126,16 @@ void write_totals(JsonWriter& j, const TrafficStats& stats) {
 void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const SlaveStats& s) {
   j.begin_object();
   j.key("device");
-  if (s.device.empty())
+  const std::string_view model = stats.device_model(a);
+  if (model.empty())
     j.null();
   else
-    j.value(std::string_view(s.device));
+    j.value(model);
   j.key("device_model_source");
-  if (s.device.empty())
+  if (model.empty())
     j.null();
   else
-    j.value(std::string_view(s.device_identified ? "identified" : "configured"));
+    j.value(std::string_view(stats.device_model_identified(a) ? "identified" : "configured"));
   j.field("requests", s.requests);
   j.field("responses", s.responses);
   j.field("exceptions", s.exceptions);
@@ -143,7 +144,7 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   for (const auto& [code, n] : s.exception_codes) {
     j.begin_object();
     j.field("code", static_cast<unsigned>(code));
-    j.field("name", s.exception_name(code));
+    j.field("name", stats.exception_name(a, code));
     j.field("count", n);
     j.end_object();
   }

@@ -65,13 +65,16 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   for (unsigned a = 1; a < 256; ++a) {
     const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
     if (s == nullptr) continue;
-    any_identified = any_identified || s->device_identified;
+    const auto address = static_cast<std::uint8_t>(a);
+    const std::string_view model = stats.device_model(address);
+    const bool identified = stats.device_model_identified(address);
+    any_identified = any_identified || identified;
     line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", a,
-         s->device.empty() ? "-" : s->device + (s->device_identified ? "*" : ""), s->requests,
+         model.empty() ? "-" : fmt::format("{}{}", model, identified ? "*" : ""), s->requests,
          s->responses, s->exceptions, s->timeouts, s->crc_errors, s->unsolicited,
          latency_text(s->latency));
     for (const auto& [code, n] : s->exception_codes) {
-      line(o, "        exception {:02X} {} ×{}", code, s->exception_name(code), n);
+      line(o, "        exception {:02X} {} ×{}", code, stats.exception_name(address, code), n);
     }
   }
   if (any_identified) {

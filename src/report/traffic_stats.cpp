@@ -62,12 +62,6 @@ void PointBucket::merge(const PointBucket& o) {
   count += o.count;
 }
 
-std::string_view SlaveStats::exception_name(std::uint8_t code) const {
-  const auto it = device_exception_names.find(code);
-  return it != device_exception_names.end() ? std::string_view(it->second)
-                                            : rtu::exception_name(code);
-}
-
 TrafficStats::TrafficStats(PointSource* points, PointSink* also)
     : point_source_(points), also_(also) {}
 
@@ -367,19 +361,21 @@ void TrafficStats::on_point(const PointSample& sample) {
   if (also_ != nullptr) also_->on_point(sample);
 }
 
-void TrafficStats::on_finish() {
-  if (point_source_ == nullptr) return;
-  for (std::size_t a = 0; a < slaves_.size(); ++a) {
-    if (!slaves_[a]) continue;
-    const auto address = static_cast<std::uint8_t>(a);
-    slaves_[a]->device = point_source_->device_model(address);
-    slaves_[a]->device_identified =
-        !slaves_[a]->device.empty() && point_source_->device_model_identified(address);
-    for (const auto& [code, n] : slaves_[a]->exception_codes) {
-      const std::string_view name = point_source_->device_exception_name(address, code);
-      if (!name.empty()) slaves_[a]->device_exception_names[code] = std::string(name);
-    }
-  }
+std::string_view TrafficStats::device_model(std::uint8_t address) const {
+  return point_source_ == nullptr ? std::string_view{} : point_source_->device_model(address);
+}
+
+bool TrafficStats::device_model_identified(std::uint8_t address) const {
+  return !device_model(address).empty() && point_source_->device_model_identified(address);
+}
+
+bool TrafficStats::device_exception(std::uint8_t address, std::uint8_t code) const {
+  return point_source_ != nullptr && !point_source_->device_exception_name(address, code).empty();
+}
+
+std::string_view TrafficStats::exception_name(std::uint8_t address, std::uint8_t code) const {
+  return device_exception(address, code) ? point_source_->device_exception_name(address, code)
+                                         : rtu::exception_name(code);
 }
 
 }  // namespace rtu

@@ -100,14 +100,6 @@ struct SlaveStats {
   std::uint64_t line_errors = 0;
   std::array<std::uint64_t, kLengthClasses> frames_by_length{};
   std::array<std::uint64_t, kLengthClasses> crc_by_length{};
-  std::string device;              // model, when a device map knows this slave
-  bool device_identified = false;  // recognised from the traffic, not configured
-  // Codes of exception_codes whose meaning the device's map gives itself (vendor table).
-  std::map<std::uint8_t, std::string> device_exception_names;
-
-  // The meaning of an exception code this slave answered with (exception_codes): its
-  // device's own, else the standard one.
-  [[nodiscard]] std::string_view exception_name(std::uint8_t code) const;
 };
 
 struct RequestKind {
@@ -177,7 +169,6 @@ class TrafficStats : public RecordSink, private PointSink {
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
-  void on_finish() override;
 
   [[nodiscard]] const CaptureInfo& capture() const { return info_; }
   [[nodiscard]] const Totals& totals() const { return totals_; }
@@ -194,6 +185,14 @@ class TrafficStats : public RecordSink, private PointSink {
     return points_;
   }
   [[nodiscard]] std::uint64_t points_overflow() const { return points_overflow_; }
+  // What the point source knows about a slave's device at the time of asking (a live run
+  // identifies models only after the last record): its model ("" when unknown), whether it
+  // was identified rather than configured, and an exception code's meaning (the device's
+  // own where its map has one, else the standard one; `device_exception` says which).
+  [[nodiscard]] std::string_view device_model(std::uint8_t address) const;
+  [[nodiscard]] bool device_model_identified(std::uint8_t address) const;
+  [[nodiscard]] bool device_exception(std::uint8_t address, std::uint8_t code) const;
+  [[nodiscard]] std::string_view exception_name(std::uint8_t address, std::uint8_t code) const;
   // Silence from a response's end to the master's next request (where observable).
   [[nodiscard]] const LogHistogram& master_turnaround() const { return master_turnaround_; }
   // Latencies of every slave together.

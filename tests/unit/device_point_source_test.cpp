@@ -196,12 +196,17 @@ TEST(DevicePointSource, ReportsUseTheDevicesOwnExceptionMeanings) {
     }
   }
   stats.on_finish();
-  ASSERT_NE(stats.slave(4), nullptr);
-  EXPECT_EQ(stats.slave(4)->device, "yakotec");
-  EXPECT_EQ(stats.slave(4)->exception_name(1), "CRC error");
-  ASSERT_NE(stats.slave(5), nullptr);
-  EXPECT_EQ(stats.slave(5)->device, "");
-  EXPECT_EQ(stats.slave(5)->exception_name(1), "ILLEGAL FUNCTION");
+  EXPECT_EQ(stats.device_model(4), "yakotec");
+  EXPECT_EQ(stats.exception_name(4, 1), "CRC error");
+  EXPECT_TRUE(stats.device_exception(4, 1));
+  EXPECT_EQ(stats.device_model(5), "");
+  EXPECT_EQ(stats.exception_name(5, 1), "ILLEGAL FUNCTION");
+  EXPECT_FALSE(stats.device_exception(5, 1));
+  // A live run identifies models after its last record: the report sees them all the same.
+  source.assign(5, map("th900"), ModelOrigin::kIdentified);
+  EXPECT_EQ(stats.device_model(5), "th900");
+  EXPECT_TRUE(stats.device_model_identified(5));
+  EXPECT_FALSE(stats.device_model_identified(4));
 
   std::vector<std::string> causes(256);
   for (const Finding& f : find_problems(stats)) {

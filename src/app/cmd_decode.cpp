@@ -3,12 +3,11 @@
 #include <string>
 
 #include "app/command.hpp"
+#include "app/record_writer.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "pipeline/replay.hpp"
-#include "report/jsonl_writer.hpp"
 #include "report/output_stream.hpp"
-#include "report/text_writer.hpp"
 
 namespace rtu::app {
 namespace {
@@ -36,12 +35,7 @@ void setup_decode(CLI::App& app, int& exit_code) {
     const auto devices = args->devices.build(options);
     FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
     OutputStream out(args->output);
-    std::unique_ptr<RecordSink> writer;
-    if (args->format == "jsonl") {
-      writer = std::make_unique<JsonlWriter>(out, annotator);
-    } else {
-      writer = std::make_unique<TextWriter>(out, annotator);
-    }
+    const auto writer = make_record_writer(args->format, out, annotator, false);
     replay_capture(args->file, options, *writer);
     exit_code = 0;
   });

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "app/record_writer.hpp"
 #include "app/device_options.hpp"
 #include "app/report_points.hpp"
 #include "app/run_report.hpp"
@@ -31,9 +32,7 @@
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 #include "pipeline/replay.hpp"
-#include "report/jsonl_writer.hpp"
 #include "report/output_stream.hpp"
-#include "report/text_writer.hpp"
 #include "serial/virtual_bus.hpp"
 
 namespace rtu::app {
@@ -143,12 +142,7 @@ void run_demo(DemoArgs& args, int& exit_code) {
   bus.start();
 
   OutputStream out("-");
-  std::unique_ptr<RecordSink> writer;
-  if (args.format == "jsonl") {
-    writer = std::make_unique<JsonlWriter>(out, annotator, true);
-  } else {
-    writer = std::make_unique<TextWriter>(out, annotator, true);
-  }
+  const auto writer = make_record_writer(args.format, out, annotator, true);
   std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) recorder = std::make_unique<PcapngRecorder>(args.write_path);
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "app/record_writer.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/report_points.hpp"
@@ -18,9 +19,7 @@
 #include "capture/input_error.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
-#include "report/jsonl_writer.hpp"
 #include "report/output_stream.hpp"
-#include "report/text_writer.hpp"
 
 namespace rtu::app {
 namespace {
@@ -64,12 +63,7 @@ void run_live(const LiveArgs& args, int& exit_code) {
   options.duration = static_cast<Nanos>(args.duration_s * 1e9);
 
   OutputStream out(args.output);
-  std::unique_ptr<RecordSink> writer;
-  if (args.format == "jsonl") {
-    writer = std::make_unique<JsonlWriter>(out, annotator, true);
-  } else {
-    writer = std::make_unique<TextWriter>(out, annotator, true);
-  }
+  const auto writer = make_record_writer(args.format, out, annotator, true);
 
   std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) {

@@ -11,12 +11,8 @@ import json
 import os
 import shutil
 import subprocess
-import sys
 
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
+from bus_helpers import fail
 
 
 def jsonl(text):

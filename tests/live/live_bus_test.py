@@ -18,14 +18,11 @@ import subprocess
 import sys
 import time
 
+from bus_helpers import fail, stop_all
+
 SLAVE = 17
 ABSENT = 99
 BAUD = 19200
-
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
 
 
 def read_lines(proc, count, what, deadline=20.0):
@@ -172,13 +169,7 @@ def main():
             fail(f"rtuscope live exited {live.returncode}: {err}")
         print(err, end="")
     finally:
-        for p in reversed(procs):
-            if p.poll() is None:
-                p.send_signal(signal.SIGTERM)
-                try:
-                    p.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    p.kill()
+        stop_all(procs)
 
     bursts = bus_bursts(log)
     records = load_jsonl(live_out)

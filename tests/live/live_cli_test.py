@@ -16,25 +16,15 @@ import os
 import shutil
 import signal
 import subprocess
-import sys
 import time
-import tty
+
+from bus_helpers import crc16, fail, open_endpoint, stop_all
 
 BAUD = 19200
 
 
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
 
 
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return bytes(data) + bytes([crc & 0xFF, crc >> 8])
 
 
 def start_bus(vbus, n, log):
@@ -43,10 +33,6 @@ def start_bus(vbus, n, log):
     return proc, [proc.stdout.readline().strip() for _ in range(n)]
 
 
-def open_endpoint(path):
-    fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
-    tty.setraw(fd)
-    return fd
 
 
 def wait_listening(proc, deadline=20.0):
@@ -79,14 +65,6 @@ def decode(rtuscope, path):
     return [json.loads(l) for l in r.stdout.splitlines() if l.strip()]
 
 
-def stop(procs):
-    for p in reversed(procs):
-        if p.poll() is None:
-            p.send_signal(signal.SIGTERM)
-            try:
-                p.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                p.kill()
 
 
 def wrong_port(args):
@@ -121,7 +99,7 @@ def kill9(args):
         live.wait(timeout=10)
         os.close(fd)
     finally:
-        stop(procs)
+        stop_all(procs)
     records = decode(args.rtuscope, capture)
     got = {r["hex"] for r in records if r["kind"] == "frame"}
     must = [h for t, h in bus_log(log) if t < killed_at - 1.0]
@@ -167,7 +145,7 @@ def two_ports(args):
         os.close(fa)
         os.close(fb)
     finally:
-        stop(procs)
+        stop_all(procs)
     with open(out) as f:
         records = [json.loads(l) for l in f if l.strip()]
     frames = [r for r in records if r["kind"] == "frame"]

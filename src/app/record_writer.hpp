@@ -1,0 +1,20 @@
+#pragma once
+// The frame writer of the commands that print records (`decode`, `live`, `demo`): one place
+// that maps --format to a writer.
+#include <memory>
+#include <string>
+
+#include "framing/record.hpp"
+#include "report/frame_annotator.hpp"
+#include "report/output_stream.hpp"
+
+namespace rtu::app {
+
+// `format` is "jsonl" or "text". `annotator` (may be null) names device registers.
+// `flush_each`: every record reaches `out` at once (live output), else buffered.
+[[nodiscard]] std::unique_ptr<RecordSink> make_record_writer(const std::string& format,
+                                                             OutputStream& out,
+                                                             FrameAnnotator* annotator,
+                                                             bool flush_each);
+
+}  // namespace rtu::app

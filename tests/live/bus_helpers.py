@@ -1,0 +1,40 @@
+"""What the live tests share: failing with a message, Modbus CRC, virtual-bus endpoints,
+stopping the processes a test started."""
+import os
+import signal
+import subprocess
+import sys
+import tty
+
+
+def fail(message):
+    print(f"FAIL: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def crc16(data):
+    """The ADU for `data`: the bytes with their Modbus CRC appended (low byte first)."""
+    crc = 0xFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return bytes(data) + bytes([crc & 0xFF, crc >> 8])
+
+
+def open_endpoint(path):
+    """A virtual-bus endpoint opened raw, for writing frames onto the bus."""
+    fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
+    tty.setraw(fd)
+    return fd
+
+
+def stop_all(procs):
+    """SIGTERM to each process still running (last started first), SIGKILL if it hangs."""
+    for p in reversed(procs):
+        if p.poll() is None:
+            p.send_signal(signal.SIGTERM)
+            try:
+                p.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                p.kill()

@@ -3,9 +3,9 @@
 #include <string>
 
 #include "app/command.hpp"
-#include "app/record_writer.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
+#include "app/record_writer.hpp"
 #include "pipeline/replay.hpp"
 #include "report/output_stream.hpp"
 

@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "app/command.hpp"
-#include "app/record_writer.hpp"
 #include "app/device_options.hpp"
+#include "app/record_writer.hpp"
 #include "app/report_points.hpp"
 #include "app/run_report.hpp"
 #include "capture/input_error.hpp"

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "app/command.hpp"
-#include "app/record_writer.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
+#include "app/record_writer.hpp"
 #include "app/report_points.hpp"
 #include "app/run_report.hpp"
 #include "capture/input_error.hpp"
@@ -108,8 +108,8 @@ void run_live(const LiveArgs& args, int& exit_code) {
   if (report) {
     report->finish();
     report->print_findings(stderr, 3);
-    report->write(*report_out, args.report_format.empty() ? report_format_for(args.report)
-                                                          : args.report_format);
+    report->write(*report_out,
+                  args.report_format.empty() ? report_format_for(args.report) : args.report_format);
     report_out->flush();
     fmt::print(stderr, "rtuscope: report written to {}\n", args.report);
   }

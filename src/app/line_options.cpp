@@ -12,10 +12,11 @@ void LineOptions::add_to(CLI::App& command, bool with_resolution) {
   command.add_option("--parity", parity, "Parity N|E|O (default: from the file, else E)");
   command.add_option("--stop", stop_bits, "Stop bits 1|2 (default: from the file, else 1)")
       ->check(CLI::IsMember({1U, 2U}));
-  timeout_option = command.add_option(
-      "--timeout-ms", timeout_ms,
-      "Response timeout in ms (default: what a live recording declares, else 1000)")
-      ->check(CLI::PositiveNumber);
+  timeout_option =
+      command
+          .add_option("--timeout-ms", timeout_ms,
+                      "Response timeout in ms (default: what a live recording declares, else 1000)")
+          ->check(CLI::PositiveNumber);
   if (!with_resolution) return;
   command
       .add_option("--resolution-ms", resolution_ms,

@@ -20,8 +20,8 @@ void RunReport::finish() {
 
 std::string report_format_for(const std::string& path) {
   const auto ends_with = [&](std::string_view suffix) {
-    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(),
-                                                        suffix.size(), suffix) == 0;
+    return path.size() >= suffix.size() &&
+           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   if (ends_with(".html") || ends_with(".htm")) return "html";
   if (ends_with(".json")) return "json";

@@ -32,7 +32,7 @@ struct PcapItem {
   Chunk chunk;  // kChunk; spans valid until the next call
   // kFrame / kNoise; valid until the next call
   std::span<const std::uint8_t> bytes;
-  Nanos t_start = 0;  // kFrame / kNoise: first byte's start; kEnd: when the capture ended
+  Nanos t_start = 0;         // kFrame / kNoise: first byte's start; kEnd: when the capture ended
   std::uint64_t offset = 0;  // byte offset of the (first) record in the file
   Nanos resolution = 0;      // timestamp step of its interface
 };

@@ -1,6 +1,7 @@
 #pragma once
 // Facts about a capture that every output states once, before the records.
 #include <string>
+#include <vector>
 
 #include "core/time.hpp"
 #include "serial/line_settings.hpp"
@@ -15,6 +16,9 @@ struct CaptureInfo {
   Nanos timing_resolution = 0;
   bool per_byte_timing = false;  // every byte has its own timestamp
   Nanos response_timeout = 1000 * kNanosPerMilli;
+  // Doubts about the capture the user must see (line settings the data contradicts,
+  // settings assumed because nothing declared them); also printed on stderr.
+  std::vector<std::string> warnings;
 };
 
 }  // namespace rtu

@@ -46,6 +46,12 @@ void print_summary(const LiveSummary& s) {
              to_seconds(s.duration), s.bytes, s.chunks, s.frames, s.crc_errors,
              s.frames_with_issues, s.transactions, s.timeouts, s.noise_records, s.line_error_bytes,
              s.disconnects);
+  if (s.timing_resolution > s.declared_resolution) {
+    fmt::print(stderr,
+               "rtuscope: the reads came in batches: gaps below {:.1f} ms were not observable "
+               "(the port promised {:.1f} ms)\n",
+               to_millis(s.timing_resolution), to_millis(s.declared_resolution));
+  }
 }
 
 void run_live(const LiveArgs& args, int& exit_code) {

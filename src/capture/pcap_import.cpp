@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 
 #include "capture/input_error.hpp"
@@ -120,6 +121,23 @@ bool PcapImporter::fetch() {
   return true;
 }
 
+// Receivers are numbered in the order their first read appears in the section, so a
+// two-port live recording gives ports 0 and 1, and an export whose raw reads sit on a
+// second interface still gives port 0.
+std::uint8_t PcapImporter::port_of(std::uint32_t section, std::uint32_t interface_id) {
+  if (section != port_section_) {
+    port_section_ = section;
+    port_interfaces_.clear();
+  }
+  const auto it = std::find(port_interfaces_.begin(), port_interfaces_.end(), interface_id);
+  if (it != port_interfaces_.end()) {
+    return static_cast<std::uint8_t>(it - port_interfaces_.begin());
+  }
+  if (port_interfaces_.size() == UINT8_MAX) return UINT8_MAX;
+  port_interfaces_.push_back(interface_id);
+  return static_cast<std::uint8_t>(port_interfaces_.size() - 1);
+}
+
 bool PcapImporter::next(PcapItem& out) {
   if (deferred_) {
     const InputError error = *deferred_;
@@ -167,6 +185,7 @@ bool PcapImporter::next(PcapItem& out) {
     const std::uint32_t section = packet_.section;
     out = PcapItem{};
     out.kind = PcapItem::Kind::kChunk;
+    out.chunk.port = port_of(section, interface_id);
     out.offset = at;
     out.resolution = packet_.resolution;
     bytes_.clear();

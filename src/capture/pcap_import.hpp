@@ -57,6 +57,7 @@ class PcapImporter {
 
  private:
   bool fetch();  // next packet into packet_; false at the end
+  std::uint8_t port_of(std::uint32_t section, std::uint32_t interface_id);
   std::unique_ptr<PcapReader> reader_;
   CapturePacket packet_;
   bool have_packet_ = false;
@@ -68,6 +69,8 @@ class PcapImporter {
   std::uint8_t pending_errors_ = 0;  // from events without bytes
   std::vector<std::uint8_t> bytes_;
   std::vector<std::uint8_t> errors_;
+  std::uint32_t port_section_ = 0;
+  std::vector<std::uint32_t> port_interfaces_;  // index = port
 };
 
 // "<key><ms> ms" anywhere in `text`, e.g. key "timing resolution " and "16.000 ms".

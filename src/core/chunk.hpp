@@ -25,6 +25,9 @@ struct Chunk {
   std::span<const std::uint8_t> bytes;
   std::span<const std::uint8_t> errors;  // LineError per byte, or empty when none
   std::uint64_t origin = 0;  // where it came from in the input (line number or byte offset)
+  // Which receiver read it: 0, or 1 for the second port of a two-port capture (the two
+  // directions of a link). Each port is framed on its own.
+  std::uint8_t port = 0;
 };
 
 }  // namespace rtu

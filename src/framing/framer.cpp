@@ -30,7 +30,8 @@ Framer::Framer(const FramerConfig& config, RecordSink& out)
       out_(out),
       char_time_(config.line.char_time()),
       t1_5_(config.line.t1_5()),
-      t3_5_(config.line.t3_5()) {
+      t3_5_(config.line.t3_5()),
+      resolution_(std::max<Nanos>(config.resolution, 0)) {
   noise_.kind = RecordKind::kNoise;
 }
 
@@ -46,6 +47,11 @@ void Framer::expect_request() {
 
 void Framer::push(const Chunk& chunk) {
   const std::size_t n = chunk.bytes.size();
+  if (n == 0) return;
+  advance(chunk.t_end);
+  ++chunks_;
+  if (n > 1) ++batched_chunks_;
+  const auto chunk_size = static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint8_t errors = chunk.errors.size() == n ? chunk.errors[i] : 0;
     Nanos end = 0;
@@ -65,16 +71,25 @@ void Framer::push(const Chunk& chunk) {
         if (i == 0) gap = end - char_time_ - last_byte_end_;
       }
     }
-    append_byte(chunk.bytes[i], errors, end, gap, chunk.origin);
+    append_byte(chunk.bytes[i], errors, end, gap, chunk.origin, chunk_size);
   }
   decide(false);
 }
 
-void Framer::idle(Nanos now) {
-  if (buffered() > 0 && last_byte_end_ != kUnknownTime &&
-      now - last_byte_end_ >= t3_5_ + config_.resolution) {
-    decide(true);
+void Framer::advance(Nanos now) {
+  if (buffered() == 0 && noise_.size == 0) return;
+  if (last_byte_end_ == kUnknownTime ||
+      now - last_byte_end_ < t3_5_ + std::max(resolution_, kDeliveryPatience)) {
+    return;
   }
+  decide(true);
+  flush_noise();  // a silence ends a stretch of noise too
+}
+
+Nanos Framer::oldest_pending_start() const {
+  if (noise_.size > 0) return noise_.t_start;
+  if (buffered() > 0) return info_at(0).t_end - char_time_;
+  return kUnknownTime;
 }
 
 void Framer::finish() {
@@ -83,7 +98,7 @@ void Framer::finish() {
 }
 
 void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
-                         std::uint64_t origin) {
+                         std::uint64_t origin, std::uint16_t chunk_size) {
   if (end_ == kWindow) {
     // Slide the window back to the front; it never holds more than kMaxPending bytes.
     const std::size_t n = buffered();
@@ -94,7 +109,7 @@ void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, N
     end_ = n;
   }
   bytes_[end_] = value;
-  info_[end_] = ByteInfo{t_end, gap_before, origin, errors};
+  info_[end_] = ByteInfo{t_end, gap_before, origin, chunk_size, errors};
   ++end_;
   last_byte_end_ = t_end;
   if (buffered() >= kMaxPending) decide(false);
@@ -109,7 +124,15 @@ void Framer::decide(bool at_end) {
 bool Framer::boundary_at(std::size_t pos) const {
   if (pos >= buffered()) return false;
   const Nanos gap = info_at(pos).gap_before;
-  return gap != kUnknownTime && gap - config_.resolution >= t3_5_;
+  return gap != kUnknownTime && gap - resolution_ >= t3_5_;
+}
+
+bool Framer::contiguous_at(std::size_t pos) const {
+  if (pos == 0 || pos >= buffered()) return false;
+  const Nanos gap = info_at(pos).gap_before;
+  // Less than half a character of silence, as far as the timestamps can tell: the start
+  // bit followed the previous stop bit. No second sender turns its driver on that fast.
+  return gap != kUnknownTime && gap + resolution_ < char_time_ / 2;
 }
 
 bool Framer::awaited_response_at(std::size_t pos) const {
@@ -185,6 +208,10 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_d
       case ShapeStatus::kLength:
         if (shape.value > avail) {
           if (!at_end) *pending = true;
+          // The awaited answer still coming: a shorter reading as a request may only be
+          // its first bytes (a CRC ending in 00 leaves the frame without its last byte
+          // CRC-valid too), so wait for the answer's length before taking it.
+          if (!at_end && response_first && role == Role::kResponse) return 0;
         } else if (shape.value >= kMinAdu && crc16(view.first(shape.value)) == 0) {
           return shape.value;
         }
@@ -284,9 +311,11 @@ void Framer::classify_span(std::size_t length) {
         return;
       }
     }
+    // A frame with a bad CRC, then more bytes; but never a cut where the timestamps show
+    // the line was not silent: those bytes came from one sender in one go.
     const std::size_t predicted = predicted_length(0);
-    if (predicted >= kMinAdu && predicted < length) {
-      emit_frame(predicted);  // a frame with a bad CRC, then more bytes
+    if (predicted >= kMinAdu && predicted < length && !contiguous_at(predicted)) {
+      emit_frame(predicted);
       return;
     }
     if (length <= kMaxAdu) {
@@ -318,7 +347,8 @@ void Framer::emit_frame(std::size_t length) {
   classify_frame(rec);
 
   // Timing, only where the timestamps can show it.
-  const Nanos res = config_.resolution;
+  if (rec.crc_ok) learn_from(length);
+  const Nanos res = resolution_;
   for (std::size_t i = 1; i < length; ++i) {
     const Nanos gap = info_at(i).gap_before;
     if (gap != kUnknownTime && gap - res > t1_5_) {
@@ -326,9 +356,14 @@ void Framer::emit_frame(std::size_t length) {
       break;
     }
   }
-  if (last_record_was_frame_ && rec.gap_before != kUnknownTime && rec.gap_before + res < t3_5_) {
-    rec.issues.add(IssueId::kT35);
+  // Silence since the previous frame; a turnaround glitch between them does not hide it.
+  Nanos silence = kUnknownTime;
+  if (last_record_was_frame_) silence = rec.gap_before;
+  if (glitch_since_frame_ != kUnknownTime && rec.gap_before != kUnknownTime) {
+    silence = glitch_since_frame_ + rec.gap_before;
   }
+  if (silence != kUnknownTime && silence + res < t3_5_) rec.issues.add(IssueId::kT35);
+  glitch_since_frame_ = kUnknownTime;
   if ((rec.line_errors & (kParityError | kFramingError)) != 0) rec.issues.add(IssueId::kLineError);
   if ((rec.line_errors & kBreak) != 0) rec.issues.add(IssueId::kBreak);
   if ((rec.line_errors & kOverrun) != 0) rec.issues.add(IssueId::kOverrun);
@@ -359,7 +394,31 @@ void Framer::emit_frame(std::size_t length) {
   out_.on_record(rec);
 }
 
+bool Framer::reads_are_batched() const {
+  // Up to 2% of reads with several bytes still leave byte timing observable almost
+  // everywhere (a per-byte source whose reader fell behind now and then).
+  return batched_chunks_ * 50 > chunks_;
+}
+
+// A CRC-valid frame was sent without a pause inside (a pause that long would break it
+// for every strict receiver), so a silence its timestamps show between two reads, where
+// the reads are batched, is how late the adapter delivered: the timestamps cannot resolve
+// anything shorter. Learned before the frame's own checks, so a USB packet boundary
+// inside a frame is never reported as a t1.5 violation. A per-byte source never teaches
+// this: there a pause inside a frame is a real one.
+void Framer::learn_from(std::size_t length) {
+  if (!config_.learn_resolution || config_.per_byte_exact || !reads_are_batched()) return;
+  for (std::size_t i = 1; i < length; ++i) {
+    const ByteInfo& b = info_at(i);
+    if (b.gap_before == kUnknownTime || b.gap_before <= resolution_) continue;
+    if (b.chunk_size < 2 && info_at(i - 1).chunk_size < 2) continue;
+    resolution_ = b.gap_before;
+  }
+}
+
 void Framer::emit_noise(std::size_t length) {
+  // Noise on both sides of a silence the timestamps show is two stretches, not one.
+  if (noise_.size > 0 && boundary_at(0)) flush_noise();
   std::size_t done = 0;
   while (done < length) {
     if (noise_.size == kMaxAdu) flush_noise();
@@ -389,11 +448,24 @@ void Framer::flush_noise() {
   }
   if ((noise_.line_errors & kBreak) != 0) noise_.issues.add(IssueId::kBreak);
   if ((noise_.line_errors & kOverrun) != 0) noise_.issues.add(IssueId::kOverrun);
+  glitch_since_frame_ = kUnknownTime;
+  if (is_turnaround_glitch(noise_)) {
+    noise_.issues.add(IssueId::kTurnaroundGlitch);
+    glitch_since_frame_ = noise_.t_end - last_record_end_;
+  }
   last_record_end_ = noise_.t_end;
   last_record_was_frame_ = false;
   out_.on_record(noise_);
   noise_ = Record{};
   noise_.kind = RecordKind::kNoise;
+}
+
+// A lone byte at most about a character after a frame's end, as the timestamps show: the
+// frame's sender releasing the line (its RS-485 driver switching off, or a transceiver
+// without fail-safe bias reading the idle line as a start bit). Any value can come out.
+bool Framer::is_turnaround_glitch(const Record& noise) const {
+  return noise.size == 1 && last_record_was_frame_ && noise.gap_before != kUnknownTime &&
+         noise.gap_before <= char_time_ + char_time_ / 2;
 }
 
 void Framer::consume(std::size_t length) {

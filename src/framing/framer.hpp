@@ -28,28 +28,49 @@ namespace rtu {
 
 struct FramerConfig {
   LineSettings line;
-  // Silences shorter than this cannot be seen in the timestamps (see TimingEstimator).
+  // Silences shorter than this cannot be seen in the timestamps (see TimingEstimator):
+  // the starting value, raised as the chunks show more (see Framer::learn_from).
   Nanos resolution = 0;
   // Chunks carry exact per-byte start times (logic analyser exports).
   bool per_byte_exact = false;
+  // Whether the resolution may be raised from what the chunks show (off when the user
+  // fixed it, and for exact per-byte timestamps).
+  bool learn_resolution = true;
 };
+
+// How long the framer waits, past t3.5, for more bytes of a frame that is not complete
+// yet before it decides without them. A USB adapter holds bytes for up to its latency
+// timer (16 ms by default on FTDI, a few ms on CH340/CP210x/PL2303), so the rest of a
+// frame can come that much later even on a healthy line; giving up earlier turns a whole
+// frame into a truncated one plus noise. It only delays the decision, never a timestamp.
+inline constexpr Nanos kDeliveryPatience = 20 * kNanosPerMilli;
 
 class Framer {
  public:
   // `out` receives every record, in time order. It must outlive the framer.
   Framer(const FramerConfig& config, RecordSink& out);
 
+  // A read: first advance(chunk.t_end) (nothing was read before it), then its bytes.
   void push(const Chunk& chunk);
-  // The line has been silent since `now` (live capture): frames waiting for more bytes
-  // can be decided. Replays need not call it.
-  void idle(Nanos now);
+  // No read completed before `now`. Once that is t3.5 plus the resolution (at least
+  // kDeliveryPatience) after the last byte, what is buffered is decided as complete.
+  // push() calls it with each read's time, and a live capture calls it while the line is
+  // quiet: both reach the same decision at the same point of the byte stream, so a live
+  // run and the replay of its recording give the same records.
+  void advance(Nanos now);
   // End of input: everything still buffered is emitted.
   void finish();
 
-  // Expected next frame, fed back by the transaction tracker's view of the bus; used
-  // only to break ties between equally valid readings.
+  // Expected next frame, from the framer's own reading of the bus (after a request, its
+  // response); used only to break ties between equally valid readings.
   void expect_response_from(std::uint8_t slave, std::uint8_t function);
   void expect_request();
+
+  // The timing resolution in force now (the configured one, raised by what was learned).
+  [[nodiscard]] Nanos resolution() const { return resolution_; }
+  // Start of the oldest byte not yet emitted in a record, kUnknownTime when none: records
+  // still to come can start no earlier.
+  [[nodiscard]] Nanos oldest_pending_start() const;
 
  private:
   static constexpr std::size_t kWindow = 2048;             // bytes held while deciding
@@ -59,13 +80,16 @@ class Framer {
     Nanos t_end = 0;
     Nanos gap_before = kUnknownTime;  // observable silence before this byte
     std::uint64_t origin = 0;
+    std::uint16_t chunk_size = 0;  // bytes in the read this byte came in
     std::uint8_t errors = 0;
   };
 
   enum class Verdict : std::uint8_t { kEmitted, kWait };
 
   void append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
-                   std::uint64_t origin);
+                   std::uint64_t origin, std::uint16_t chunk_size);
+  void learn_from(std::size_t length);
+  [[nodiscard]] bool reads_are_batched() const;
   void decide(bool at_end);
   Verdict decide_head(bool at_end);
 
@@ -78,6 +102,8 @@ class Framer {
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
+  bool contiguous_at(std::size_t pos) const;
+  bool is_turnaround_glitch(const Record& noise) const;
   bool plausible_start(std::size_t pos) const;
   bool awaited_response_at(std::size_t pos) const;
   std::size_t predicted_length(std::size_t pos) const;
@@ -97,6 +123,9 @@ class Framer {
   Nanos char_time_;
   Nanos t1_5_;
   Nanos t3_5_;
+  Nanos resolution_;
+  std::uint64_t chunks_ = 0;
+  std::uint64_t batched_chunks_ = 0;  // reads that returned more than one byte
 
   std::array<std::uint8_t, kWindow> bytes_{};
   std::array<ByteInfo, kWindow> info_{};
@@ -106,6 +135,8 @@ class Framer {
   Nanos last_byte_end_ = kUnknownTime;  // end of the newest byte pushed
   Nanos last_record_end_ = kUnknownTime;
   bool last_record_was_frame_ = false;
+  // When the last record is a turnaround glitch: time from the frame before it to its end.
+  Nanos glitch_since_frame_ = kUnknownTime;
   // Positions [1, scan_resume_) of the window are known not to start a confirmable frame.
   std::size_t scan_resume_ = 1;
   std::bitset<256> active_slaves_;  // slaves seen in CRC-valid frames

@@ -20,7 +20,12 @@ void TimingEstimator::add(const Chunk& chunk) {
   ++chunks_;
   if (chunk.bytes.size() > 1) {
     ++multi_byte_chunks_;
-    if (last_t_ != kUnknownTime) ++multi_intervals_[bucket_of(chunk.t_end - last_t_)];
+    // Only reads that follow one another while traffic flows show the delivery period;
+    // the quiet between bursts of polling says nothing about the adapter.
+    const Nanos interval = last_t_ == kUnknownTime ? kUnknownTime : chunk.t_end - last_t_;
+    if (interval != kUnknownTime && interval <= kMaxDeliveryPeriod) {
+      ++multi_intervals_[bucket_of(interval)];
+    }
   }
   last_t_ = chunk.t_end;
 }

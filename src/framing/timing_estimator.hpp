@@ -8,6 +8,10 @@
 // interval between chunks that hold several bytes is that period. When chunks hold one
 // byte each (per-byte sources, logic analysers), the timestamps' own precision is the limit.
 //
+// Intervals longer than kMaxDeliveryPeriod are pauses in the traffic, not deliveries, and
+// are left out. The framer raises the estimate later where a CRC-valid frame shows that a
+// read came later than this (Framer::learn_from).
+//
 // Memory is fixed (a logarithmic histogram), so the first pass over a huge capture is cheap.
 #include <array>
 #include <cstdint>
@@ -15,6 +19,11 @@
 #include "core/chunk.hpp"
 
 namespace rtu {
+
+// No USB serial adapter in use holds bytes longer than this: FTDI's latency timer is
+// 16 ms by default (up to 255 ms if someone raised it), CH340/CP210x/PL2303 deliver
+// within a few ms.
+inline constexpr Nanos kMaxDeliveryPeriod = 64 * kNanosPerMilli;
 
 class TimingEstimator {
  public:

@@ -64,6 +64,7 @@ void TransactionTracker::handle_request(Record& frame) {
   open_ = frame;
   has_open_ = true;
   answered_ = false;
+  released_ = false;
   held_[0] = frame;
   held_count_ = 1;
 }
@@ -79,6 +80,16 @@ void TransactionTracker::handle_response(Record& frame) {
   if (frame.slave() != open_.slave()) frame.issues.add(IssueId::kWrongSlave);
   if ((frame.function() & 0x7FU) != open_.function()) frame.issues.add(IssueId::kWrongFunction);
   frame.latency = frame.t_start - open_.t_end;
+  if (released_) {
+    // Its request already went out timed out and unmatched: a late answer to it.
+    frame.issues.add(IssueId::kLate);
+    answered_ = true;
+    frame.request = &open_;
+    if (frame.crc_ok) frame.issues.merge(check_pdu(decode_pdu(frame, Role::kResponse)));
+    out_.on_record(frame);
+    frame.request = nullptr;
+    return;
+  }
   if (frame.latency > config_.response_timeout) {
     frame.issues.add(IssueId::kLate);
     open_.issues.add(IssueId::kTimeout);
@@ -116,7 +127,8 @@ void TransactionTracker::emit(Record& record) {
     return;
   }
   if (held_count_ == kMaxHeld) {
-    // Too much traffic while a request waits: release it without a verdict.
+    // Too much traffic while a request waits: release it without a verdict, and say so.
+    held_[0].issues.add(IssueId::kBacklogOverflow);
     release_held();
     out_.on_record(record);
     return;
@@ -129,10 +141,11 @@ void TransactionTracker::release_held() {
   held_count_ = 0;
 }
 
-void TransactionTracker::idle(Nanos now) {
-  if (awaiting_answer() && held_count_ > 0 && now - open_.t_end > config_.response_timeout) {
+void TransactionTracker::advance(Nanos now) {
+  if (awaiting_answer() && !released_ && now - open_.t_end > config_.response_timeout) {
     open_.issues.add(IssueId::kTimeout);
-    held_[0].issues.add(IssueId::kTimeout);
+    if (held_count_ > 0) held_[0].issues.add(IssueId::kTimeout);
+    released_ = true;
     release_held();
   }
 }

@@ -10,7 +10,8 @@
 //
 // Records leave in time order. A request is held back until its fate is known (answer,
 // timeout), together with the records that arrived meanwhile; that backlog is bounded,
-// and overflowing it releases the request without a verdict rather than growing.
+// and overflowing it releases the request without a verdict (`backlog_overflow`) rather
+// than growing.
 #include <array>
 #include <cstdint>
 
@@ -29,9 +30,10 @@ class TransactionTracker : public RecordSink {
   void on_capture(const CaptureInfo& info) override { out_.on_capture(info); }
   void on_record(Record& record) override;
   void on_finish() override;
-  // Live capture: the line has been quiet until `now`; a request older than the
-  // response timeout is released as timed out.
-  void idle(Nanos now);
+  // No record can start before `now`: a request whose response timeout ran out before it
+  // is released as timed out. An answer that still comes is flagged `late`, with no txn
+  // (its request has already gone out unmatched).
+  void advance(Nanos now);
 
  private:
   static constexpr std::size_t kMaxHeld = 64;
@@ -50,6 +52,7 @@ class TransactionTracker : public RecordSink {
   Record open_;  // the newest request that expects an answer
   bool has_open_ = false;
   bool answered_ = false;
+  bool released_ = false;                // the open request went out as timed out (advance)
   std::array<Record, kMaxHeld> held_{};  // held_[0] is the open request while held
   std::size_t held_count_ = 0;
   std::int64_t next_txn_ = 0;

@@ -2,26 +2,53 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
+#include <vector>
 
 #include "framing/frame_classifier.hpp"
 #include "framing/framer.hpp"
 #include "pairing/transaction_tracker.hpp"
+#include "pipeline/port_merge.hpp"
 
 namespace rtu {
+
+namespace {
+
+// More receivers than this in one capture are taken as the last one.
+constexpr std::size_t kMaxPorts = 8;
+
+}  // namespace
 
 struct DecodePipeline::Impl {
   Impl(const PipelineOptions& opts, RecordSink& out)
       : sink(out),
         tracker(TrackerConfig{opts.response_timeout}, out),
-        framer(FramerConfig{opts.line, std::max<Nanos>(opts.timing_resolution, 0),
-                            opts.per_byte_timing},
-               tracker),
-        options(opts) {}
+        merge(tracker, [this](std::size_t port) { return framers[port]->oldest_pending_start(); }),
+        options(opts) {
+    add_port();
+  }
+
+  // One framer per receiving port, created when its first chunk comes.
+  Framer& framer_for(std::size_t port) {
+    port = std::min(port, kMaxPorts - 1);
+    while (framers.size() <= port) add_port();
+    return *framers[port];
+  }
+  void add_port() {
+    outputs.push_back(std::make_unique<PortOutput>(merge, framers.size()));
+    framers.push_back(std::make_unique<Framer>(
+        FramerConfig{options.line, std::max<Nanos>(options.timing_resolution, 0),
+                     options.per_byte_timing, options.learn_resolution},
+        *outputs.back()));
+    merge.set_port_count(framers.size());
+  }
 
   RecordSink& sink;
   TransactionTracker tracker;
-  Framer framer;
+  PortMerge merge;
   PipelineOptions options;
+  std::vector<std::unique_ptr<PortOutput>> outputs;
+  std::vector<std::unique_ptr<Framer>> framers;
   bool started = false;
   Record imported;
   Record& imported_record(RecordKind kind, std::span<const std::uint8_t> bytes, Nanos t_start,
@@ -50,7 +77,16 @@ void DecodePipeline::push(const Chunk& chunk) {
     info.response_timeout = impl_->options.response_timeout;
     start(info);
   }
-  impl_->framer.push(chunk);
+  if (chunk.bytes.empty()) return;
+  Framer& framer = impl_->framer_for(chunk.port);
+  idle(chunk.t_end);  // nothing was read, on any port, before this read completed
+  framer.push(chunk);
+}
+
+Nanos DecodePipeline::timing_resolution() const {
+  Nanos res = 0;
+  for (const auto& framer : impl_->framers) res = std::max(res, framer->resolution());
+  return res;
 }
 
 // Fills the record for bytes whose boundaries the input already gave (imported files):
@@ -100,12 +136,16 @@ void DecodePipeline::push_noise(std::span<const std::uint8_t> bytes, Nanos t_sta
 
 void DecodePipeline::idle(Nanos now) {
   if (!impl_->started) return;
-  impl_->framer.idle(now);
-  impl_->tracker.idle(now);
+  for (auto& framer : impl_->framers) framer->advance(now);
+  // A record a framer still holds may be the awaited answer: the request's fate is
+  // decided only up to where that record could start.
+  const Nanos oldest = impl_->merge.oldest_pending_start();
+  impl_->tracker.advance(oldest == kUnknownTime ? now : std::min(now, oldest));
 }
 
 void DecodePipeline::finish() {
-  impl_->framer.finish();
+  for (auto& framer : impl_->framers) framer->finish();
+  impl_->merge.flush();
   impl_->tracker.on_finish();
 }
 

@@ -19,6 +19,8 @@ struct PipelineOptions {
   // Timing resolution of the input; kUnknownTime = estimate it (see TimingEstimator).
   Nanos timing_resolution = kUnknownTime;
   bool per_byte_timing = false;
+  // The framer may raise the resolution from what the reads show (off when the user fixed it).
+  bool learn_resolution = true;
 };
 
 class DecodePipeline {
@@ -39,10 +41,15 @@ class DecodePipeline {
   // the framer would have emitted it.
   void push_noise(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
                   std::uint64_t origin);
-  // Live capture: the line has been quiet until `now` (input clock). Frames waiting for
-  // more bytes are decided after t3.5 + resolution of silence; requests older than the
-  // response timeout are released as timed out. Replays need not call it.
+  // No read completed before `now` (input clock): frames waiting for more bytes are
+  // decided once that is t3.5 + resolution (at least kDeliveryPatience) after the last
+  // byte, and a request older than the response timeout is released as timed out.
+  // push() does the same with each chunk's time before its bytes; a live capture also
+  // calls it while the line is quiet. Both decide at the same point of the byte stream,
+  // so a live run and the replay of its recording give identical records.
   void idle(Nanos now);
+  // The timing resolution in force now (raised from the configured one by what was learned).
+  [[nodiscard]] Nanos timing_resolution() const;
   // Flushes partial frames and open transactions.
   void finish();
 
@@ -51,9 +58,8 @@ class DecodePipeline {
   std::unique_ptr<Impl> impl_;
 };
 
-// Replays a whole source: a first pass learns the timing resolution (bounded memory),
-// then the source is reopened by `reopen` and decoded. Line settings: `overrides` win
-// over what the file declares, which wins over the Modbus default 9600 8E1.
+// Line settings the user gave: they win over what a capture declares, which wins over the
+// Modbus default 9600 8E1.
 struct LineOverrides {
   std::optional<std::uint32_t> baud;
   std::optional<Parity> parity;

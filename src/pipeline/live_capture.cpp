@@ -86,6 +86,7 @@ void LiveCapture::start() {
   }
   info_.line = options_.line;
   info_.timing_resolution = resolution;
+  summary_.declared_resolution = resolution;
   info_.per_byte_timing = false;
   info_.response_timeout = options_.response_timeout;
   for (std::size_t i = 0; i < ports_.size(); ++i) {
@@ -124,6 +125,7 @@ void LiveCapture::start_port(Port& port) {
 void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   if (stopped_) return;
   Chunk chunk = read;
+  chunk.port = static_cast<std::uint8_t>(port.index);
   if (port.lost_bytes && !chunk.bytes.empty()) {
     // Bytes were lost while the port was away: the first byte after the gap says so, in
     // the decode as in the recording (importers flag the byte after a data-lost event).
@@ -221,6 +223,7 @@ void LiveCapture::stop() {
     recorder_->flush();
   }
   summary_.duration = started_at_ != 0 ? now - started_at_ : 0;
+  summary_.timing_resolution = pipeline_ ? pipeline_->timing_resolution() : 0;
 }
 
 }  // namespace rtu

@@ -6,7 +6,8 @@
 //    thread, so they reach the pipeline merged in time order. With two ports (the two
 //    directions of an RS-232/RS-422 link) each chunk keeps its port index for recorders.
 //  * A timer calls DecodePipeline::idle() every `idle_period`, so a frame is printed once
-//    the line has been quiet for t3.5 (+ the timing resolution), not when more bytes come.
+//    the line has been quiet long enough, not when more bytes come. The pipeline decides
+//    at the same point of the byte stream as a replay of the recording does.
 //  * A port that fails (USB adapter unplugged) is reported, recorded as a gap, and reopened
 //    every `reopen_period` until it comes back; the capture goes on.
 //  * stop() (SIGINT/SIGTERM in the command) closes the ports and flushes everything.
@@ -65,6 +66,8 @@ struct LiveSummary {
   std::uint64_t line_error_bytes = 0;
   std::uint64_t disconnects = 0;
   Nanos duration = 0;
+  Nanos declared_resolution = 0;  // what the ports promised when opened
+  Nanos timing_resolution = 0;    // what the reads showed (never below the promise)
 };
 
 class LiveCapture {

@@ -42,6 +42,7 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   pipeline_options.line = info.line;
   pipeline_options.response_timeout = info.response_timeout;
   pipeline_options.timing_resolution = info.timing_resolution;
+  pipeline_options.learn_resolution = !options.resolution;
   pipeline_options.per_byte_timing = exact;
   DecodePipeline pipeline(pipeline_options, sink);
   pipeline.start(info);

@@ -70,6 +70,26 @@ class BusBuilder {
     return out;
   }
 
+  // A USB adapter with a latency timer, as rtuvbus models it: the first byte into an
+  // empty buffer starts the timer; the buffer goes out when the timer runs out or when
+  // `packet` bytes are waiting.
+  [[nodiscard]] std::vector<Chunk> usb(Nanos latency, std::size_t packet) const {
+    std::vector<Chunk> out;
+    std::size_t first = 0;
+    while (first < bytes_.size()) {
+      const Nanos deadline = ends_[first] + latency;
+      std::size_t j = first;
+      while (j < bytes_.size() && ends_[j] <= deadline && j - first < packet) ++j;
+      Chunk c;
+      c.t_end = j - first == packet ? ends_[j - 1] : deadline;
+      c.bytes = std::span(bytes_).subspan(first, j - first);
+      c.origin = out.size() + 1;
+      out.push_back(c);
+      first = j;
+    }
+    return out;
+  }
+
   [[nodiscard]] const LineSettings& line() const { return line_; }
   [[nodiscard]] std::size_t size() const { return bytes_.size(); }
 

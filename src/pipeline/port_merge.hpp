@@ -1,0 +1,61 @@
+#pragma once
+// Merges the records of one framer per receiving port into one time-ordered stream for
+// the transaction tracker.
+//
+// With two ports (the two directions of an RS-232/RS-422 link, or two adapters on one
+// bus) each port's bytes are framed on their own: bytes of a request and of a response
+// that overlap in time must never be interleaved into one frame. A record is passed on
+// once no other port still holds bytes that could start earlier. With one port records
+// pass straight through.
+//
+// Records are numbered here (Record::seq), in the order they leave.
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <vector>
+
+#include "framing/record.hpp"
+
+namespace rtu {
+
+class PortMerge {
+ public:
+  // `pending_start(port)`: start of the oldest byte that port's framer still holds, or
+  // kUnknownTime.
+  using PendingStart = std::function<Nanos(std::size_t port)>;
+
+  PortMerge(RecordSink& out, PendingStart pending_start);
+
+  // Called by port `port`'s framer for each record it emits.
+  void on_record(std::size_t port, Record& record);
+  // Ports are 0..count-1; more ports mean merging.
+  void set_port_count(std::size_t count);
+  // Passes on every held record (end of input).
+  void flush();
+  // Start of the oldest record held or still to come from a framer; kUnknownTime if none.
+  [[nodiscard]] Nanos oldest_pending_start() const;
+
+ private:
+  void drain();
+  // The port whose first held record starts earliest; held_.size() when none is held.
+  [[nodiscard]] std::size_t earliest_port() const;
+  void pass(Record& record);
+
+  RecordSink& out_;
+  PendingStart pending_start_;
+  std::vector<std::deque<Record>> held_;
+  std::uint64_t next_seq_ = 0;
+};
+
+// The RecordSink a port's framer writes to.
+class PortOutput final : public RecordSink {
+ public:
+  PortOutput(PortMerge& merge, std::size_t port) : merge_(merge), port_(port) {}
+  void on_record(Record& record) override { merge_.on_record(port_, record); }
+
+ private:
+  PortMerge& merge_;
+  std::size_t port_;
+};
+
+}  // namespace rtu

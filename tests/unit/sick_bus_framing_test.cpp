@@ -1,0 +1,185 @@
+// Framing on sick buses: what the per-byte timestamps show is evidence the framer must not
+// override; turnaround glitches never hide the timing of the frames around them; the two
+// directions of a link are framed apart.
+#include <gtest/gtest.h>
+
+#include "bus_builder.hpp"
+#include "framing/framer.hpp"
+#include "pipeline/decode_pipeline.hpp"
+
+namespace rtu {
+namespace {
+
+using test::BusBuilder;
+using test::CollectingSink;
+using test::with_crc;
+
+constexpr Nanos kUs = kNanosPerMicro;
+constexpr Nanos kMs = kNanosPerMilli;
+
+std::vector<std::uint8_t> bytes_of(const Record& r) {
+  return {r.bytes().begin(), r.bytes().end()};
+}
+
+std::vector<Record> frame(const std::vector<Chunk>& chunks, const LineSettings& line,
+                          Nanos resolution) {
+  CollectingSink sink;
+  Framer framer(FramerConfig{line, resolution, false, true}, sink);
+  for (const auto& c : chunks) framer.push(c);
+  framer.finish();
+  return sink.records;
+}
+
+TEST(SickBusFraming, DamagedRequestSentInOneGoStaysOneFrame) {
+  // 01 03 00 42 00 08 with the function code's bit 2 flipped (03 → 07): FC07's request is
+  // 4 bytes, but the bytes came back to back, so no frame boundary can be inside.
+  const auto good = with_crc({0x01, 0x03, 0x00, 0x42, 0x00, 0x08});
+  auto damaged = good;
+  damaged[1] = 0x07;
+  const auto answer = with_crc({0x01, 0x03, 0x10, 0, 1, 0, 2, 0, 3, 0, 4, 0, 5, 0, 6, 0, 7, 0, 8});
+  BusBuilder bus;
+  bus.add(good, 0).add(answer, 5 * kMs).add(damaged, 50 * kMs).add(good, 1000 * kMs);
+  const auto records = frame(bus.per_byte(), bus.line(), kUs);
+  ASSERT_EQ(records.size(), 4U);
+  EXPECT_EQ(bytes_of(records[2]), damaged);
+  EXPECT_FALSE(records[2].crc_ok);
+  EXPECT_EQ(bytes_of(records[3]), good) << "the clean request after the damage";
+  EXPECT_TRUE(records[3].crc_ok);
+}
+
+TEST(SickBusFraming, GlitchAfterResponseIsTheSendersAndDoesNotHideT35) {
+  LineSettings line;
+  line.baud = 19200;
+  const auto request = with_crc({0x05, 0x03, 0x00, 0x10, 0x00, 0x01});
+  const auto response = with_crc({0x05, 0x03, 0x02, 0x01, 0x02});
+  BusBuilder bus(line);
+  // The master polls again 1 ms after the glitch: less than t3.5 (1.75 ms) after the
+  // response, whatever the glitch byte.
+  bus.add(request, 0).add(response, 3 * kMs).add({0xFE}, 100 * kUs).add(request, 1 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 4U);
+  EXPECT_EQ(records[2].kind, RecordKind::kNoise);
+  EXPECT_TRUE(records[2].issues.has(IssueId::kTurnaroundGlitch));
+  EXPECT_EQ(records[3].kind, RecordKind::kFrame);
+  EXPECT_TRUE(records[3].issues.has(IssueId::kT35));
+}
+
+TEST(SickBusFraming, GlitchDoesNotInventAViolation) {
+  LineSettings line;
+  line.baud = 19200;
+  const auto request = with_crc({0x05, 0x03, 0x00, 0x10, 0x00, 0x01});
+  const auto response = with_crc({0x05, 0x03, 0x02, 0x01, 0x02});
+  BusBuilder bus(line);
+  bus.add(request, 0).add(response, 3 * kMs).add({0x00}, 50 * kUs).add(request, 20 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 4U);
+  EXPECT_TRUE(records[2].issues.has(IssueId::kTurnaroundGlitch));
+  EXPECT_FALSE(records[3].issues.has(IssueId::kT35));
+}
+
+TEST(SickBusFraming, ByteFarFromAFrameIsPlainNoise) {
+  LineSettings line;
+  line.baud = 19200;
+  const auto request = with_crc({0x05, 0x03, 0x00, 0x10, 0x00, 0x01});
+  BusBuilder bus(line);
+  bus.add(request, 0).add({0xFE}, 5 * kMs).add(request, 20 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(records[1].kind, RecordKind::kNoise);
+  EXPECT_FALSE(records[1].issues.has(IssueId::kTurnaroundGlitch));
+}
+
+TEST(SickBusFraming, UsbPacketBoundaryInsideAFrameTeachesTheResolution) {
+  LineSettings line;
+  line.baud = 115200;
+  const auto request = with_crc({0x11, 0x03, 0x00, 0x00, 0x00, 0x30});
+  std::vector<std::uint8_t> body = {0x11, 0x03, 0x60};
+  for (int i = 0; i < 0x60; ++i) body.push_back(static_cast<std::uint8_t>(i));
+  const std::uint16_t crc = crc16(body);
+  body.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  body.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  BusBuilder bus(line);
+  for (int i = 0; i < 20; ++i) bus.add(request, 30 * kMs).add(body, 300 * kUs);
+  CollectingSink sink;
+  // The port claimed 1 ms; the adapter holds bytes for 16 ms, 16 bytes a packet.
+  Framer framer(FramerConfig{line, kMs, false, true}, sink);
+  for (const auto& c : bus.usb(16 * kMs, 16)) framer.push(c);
+  framer.finish();
+  ASSERT_EQ(sink.records.size(), 40U);
+  for (const auto& r : sink.records) {
+    EXPECT_TRUE(r.crc_ok);
+    EXPECT_FALSE(r.issues.has(IssueId::kT15)) << "a packet boundary is not a pause";
+  }
+  EXPECT_GE(framer.resolution(), 10 * kMs);
+}
+
+TEST(SickBusFraming, PerByteSourceKeepsRealPausesInsideFrames) {
+  LineSettings line;
+  line.baud = 19200;
+  BusBuilder bus(line);
+  const auto response = with_crc({0x05, 0x03, 0x04, 0x01, 0x02, 0x03, 0x04});
+  const std::vector<std::uint8_t> head(response.begin(), response.begin() + 4);
+  const std::vector<std::uint8_t> tail(response.begin() + 4, response.end());
+  bus.add(with_crc({0x05, 0x03, 0x00, 0x00, 0x00, 0x02}), 0).add(head, 5 * kMs).add(tail, 1 * kMs);
+  CollectingSink sink;
+  Framer framer(FramerConfig{line, kUs, false, true}, sink);
+  for (const auto& c : bus.per_byte()) framer.push(c);
+  framer.finish();
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_TRUE(sink.records[1].crc_ok);
+  EXPECT_TRUE(sink.records[1].issues.has(IssueId::kT15));
+  EXPECT_EQ(framer.resolution(), kUs);
+}
+
+// Two ports (the directions of a link): a response that starts before its request's last
+// byte was read on the other port is still two frames, paired.
+TEST(SickBusFraming, TwoPortsAreFramedApartAndMergedByTime) {
+  LineSettings line;
+  line.baud = 9600;
+  const auto request = with_crc({0x02, 0x03, 0x00, 0x00, 0x00, 0x01});
+  const auto response = with_crc({0x02, 0x03, 0x02, 0xAB, 0xCD});
+  const Nanos ct = line.char_time();
+  std::vector<Chunk> chunks;
+  // Interleaved reads: port 0 carries the request byte by byte, port 1 the response,
+  // which a full-duplex slave starts while the request's CRC is still on the wire.
+  const Nanos t0 = kNanosPerSecond;
+  for (std::size_t i = 0; i < request.size(); ++i) {
+    Chunk c;
+    c.t_end = t0 + static_cast<Nanos>(i + 1) * ct;
+    c.bytes = std::span(request).subspan(i, 1);
+    c.port = 0;
+    chunks.push_back(c);
+    if (i >= 6) {
+      Chunk r;
+      r.t_end = c.t_end + ct / 2;
+      r.bytes = std::span(response).subspan(i - 6, 1);
+      r.port = 1;
+      chunks.push_back(r);
+    }
+  }
+  for (std::size_t i = 2; i < response.size(); ++i) {
+    Chunk r;
+    r.t_end = t0 + static_cast<Nanos>(request.size() + i - 1) * ct + ct / 2;
+    r.bytes = std::span(response).subspan(i, 1);
+    r.port = 1;
+    chunks.push_back(r);
+  }
+  PipelineOptions options;
+  options.line = line;
+  options.timing_resolution = kUs;
+  CollectingSink sink;
+  DecodePipeline pipeline(options, sink);
+  for (const auto& c : chunks) pipeline.push(c);
+  pipeline.finish();
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_EQ(bytes_of(sink.records[0]), request);
+  EXPECT_EQ(bytes_of(sink.records[1]), response);
+  EXPECT_EQ(sink.records[0].role, Role::kRequest);
+  EXPECT_EQ(sink.records[1].role, Role::kResponse);
+  EXPECT_EQ(sink.records[0].txn, sink.records[1].txn);
+  EXPECT_EQ(sink.records[0].seq, 0U);
+  EXPECT_EQ(sink.records[1].seq, 1U);
+}
+
+}  // namespace
+}  // namespace rtu

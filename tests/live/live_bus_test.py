@@ -74,13 +74,14 @@ def bus_bursts(log_path):
     return [(b[0], b[1]) for b in bursts]
 
 
-def master_commands(port):
-    base = ["mbpoll", "-m", "rtu", "-b", str(BAUD), "-P", "even", "-1", "-o", "0.5"]
+def master_commands(port, baud):
+    base = ["mbpoll", "-m", "rtu", "-b", str(baud), "-P", "even", "-1", "-o", "0.5"]
     reads = [
         ["-a", str(SLAVE), "-t", "4", "-r", "1", "-c", "10"],   # FC03
         ["-a", str(SLAVE), "-t", "3", "-r", "5", "-c", "4"],    # FC04
         ["-a", str(SLAVE), "-t", "0", "-r", "1", "-c", "16"],   # FC01
         ["-a", str(SLAVE), "-t", "1", "-r", "3", "-c", "9"],    # FC02
+        ["-a", str(SLAVE), "-t", "4", "-r", "1", "-c", "100"],  # FC03, a 205-byte response
     ]
     writes = [
         (["-a", str(SLAVE), "-t", "4", "-r", "20"], ["1234"]),         # FC06
@@ -118,7 +119,15 @@ def main():
     ap.add_argument("--slave", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--scenario", required=True)
+    ap.add_argument("--baud", type=int, default=BAUD)
+    # USB adapter model on the sniffer's endpoint: latency timer and packet size. The
+    # peers answer as fast as they can (0.1-0.7 ms at 115200, faster than t1.5), so
+    # requests and responses share transfers and frames are cut at packet boundaries.
+    ap.add_argument("--usb-latency-ms", type=float)
+    ap.add_argument("--usb-packet", type=int)
+    ap.add_argument("--slave-kind", choices=["libmodbus", "pymodbus"])
     args = ap.parse_args()
+    baud = args.baud
     if shutil.which("mbpoll") is None:
         fail("mbpoll is not installed (tools/debian-packages.txt)")
     shutil.rmtree(args.work, ignore_errors=True)
@@ -128,14 +137,18 @@ def main():
     live_out = os.path.join(args.work, "live.jsonl")
     report_path = os.path.join(args.work, "report.json")
 
-    vbus_cmd = [args.vbus, "-n", "3", "--baud", str(BAUD), "--parity", "E", "--log", log]
-    if args.scenario == "usb_chunking":
-        vbus_cmd += ["--usb", "2", "--usb-latency-ms", "16"]
+    vbus_cmd = [args.vbus, "-n", "3", "--baud", str(baud), "--parity", "E", "--log", log]
+    usb = args.scenario == "usb_chunking" or args.usb_latency_ms is not None
+    if usb:
+        vbus_cmd += ["--usb", "2", "--usb-latency-ms", str(args.usb_latency_ms or 16)]
+        if args.usb_packet:
+            vbus_cmd += ["--usb-packet", str(args.usb_packet)]
+    pymodbus = args.scenario == "pymodbus_slave" or args.slave_kind == "pymodbus"
     vbus = subprocess.Popen(vbus_cmd, stdout=subprocess.PIPE, text=True)
     procs = [vbus]
     try:
         master_ep, slave_ep, sniff_ep = read_lines(vbus, 3, "rtuvbus")
-        if args.scenario == "pymodbus_slave":
+        if pymodbus:
             py = python_with_pymodbus()
             if py is None:
                 fail("python3-pymodbus is not installed (tools/debian-packages.txt)")
@@ -143,12 +156,12 @@ def main():
         else:
             slave_cmd = [args.slave]
         # pymodbus cannot open a pty with parity (see pymodbus_slave.py); a pty has none.
-        slave_parity = "N" if args.scenario == "pymodbus_slave" else "E"
-        slave = subprocess.Popen(slave_cmd + [slave_ep, str(SLAVE), str(BAUD), slave_parity, "1"],
+        slave_parity = "N" if pymodbus else "E"
+        slave = subprocess.Popen(slave_cmd + [slave_ep, str(SLAVE), str(baud), slave_parity, "1"],
                                  stdout=subprocess.PIPE, text=True)
         procs.append(slave)
         read_lines(slave, 1, "slave")
-        live = subprocess.Popen([args.rtuscope, "live", sniff_ep, "--baud", str(BAUD),
+        live = subprocess.Popen([args.rtuscope, "live", sniff_ep, "--baud", str(baud),
                                  "--parity", "E", "--format", "jsonl", "-o", live_out,
                                  "-w", pcapng, "--timeout-ms", "300", "--report", report_path],
                                 stderr=subprocess.PIPE, text=True)
@@ -157,7 +170,7 @@ def main():
         if not any("parity" in n for n in notes):
             fail("rtuscope live did not say that the pty has no parity")
         time.sleep(1.0)  # pymodbus opens its port asynchronously after printing "ready"
-        for cmd in master_commands(master_ep):
+        for cmd in master_commands(master_ep, baud):
             r = subprocess.run(cmd, capture_output=True, text=True, timeout=30)
             absent = f"-a {ABSENT}" in " ".join(cmd)
             if r.returncode != 0 and not absent:
@@ -223,7 +236,7 @@ def main():
              f"slave {SLAVE} {slave}, slave {ABSENT} {absent}")
     # Through a USB adapter a response that shares its request's transfer has latency 0
     # (a lower bound); on the plain bus every latency is measured.
-    measured = args.scenario == "usb_chunking" or slave["latency_ms"]["max"] > 0
+    measured = usb or slave["latency_ms"]["max"] > 0
     if slave["latency_ms"] is None or not measured:
         fail(f"report has no latency for slave {SLAVE}: {slave['latency_ms']}")
 

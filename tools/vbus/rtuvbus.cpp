@@ -3,7 +3,7 @@
 // until SIGINT or SIGTERM.
 //
 //   rtuvbus -n 3 --baud 19200 --parity E --log bus.hex [--link-dir DIR] [--flip P]
-//           [--usb EP]... [--usb-latency-ms 16]
+//           [--usb EP]... [--usb-latency-ms 16] [--usb-packet 62]
 #include <fmt/format.h>
 #include <signal.h>
 
@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
                  "Endpoint index that receives USB-style chunks (repeatable)");
   app.add_option("--usb-latency-ms", usb_latency_ms, "USB latency timer (default 16)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--usb-packet", options.usb_packet,
+                 "USB packet size: a full packet is sent at once (default 62, as FTDI)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{4096}));
   CLI11_PARSE(app, argc, argv);
   const auto p = rtu::parse_parity(parity);
   if (!p) {

@@ -149,6 +149,82 @@ void glitch_rule(const TrafficStats& stats, Builder& b) {
   ev(f, "bytes_ff", static_cast<double>(stats.glitch_bytes_ff()));
 }
 
+// Who sent the frame a turnaround glitch followed, for sentences.
+std::string sender_name(std::optional<std::uint8_t> slave) {
+  return slave ? fmt::format("slave {}", *slave) : std::string("the master");
+}
+
+// `frames` are the sender's own frames a glitch can follow: its requests or its responses.
+void sender_glitch_finding(Builder& b, std::optional<std::uint8_t> slave, std::uint64_t glitches,
+                           std::uint64_t frames, const std::string& frames_name) {
+  const double share = std::min(1.0, ratio(glitches, frames));
+  const std::string sender = sender_name(slave);
+  Finding& f = b.add("turnaround_glitch", Severity::kWarning, slave, share);
+  f.summary = fmt::format(
+      "{} lone bytes followed {}'s frames within about a character, after {} of its {} {}",
+      glitches, sender, pct(share), frames, frames_name);
+  f.cause = fmt::format(
+      "{}'s RS-485 driver/transceiver glitches at turnaround (driver-enable timing or missing "
+      "bias/termination)",
+      sender);
+  ev(f, "glitches", static_cast<double>(glitches));
+  ev(f, frames_name, static_cast<double>(frames));
+  ev(f, "share", share * 100.0, "%");
+}
+
+// Lone bytes the framer flagged `turnaround_glitch`, per sender: at least 3 from one sender.
+// They are explained by their sender's driver, so the `noise` finding leaves them out.
+void sender_glitch_rule(const TrafficStats& stats, Builder& b) {
+  const Totals& t = stats.totals();
+  if (stats.master_turnaround_glitches() >= 3) {
+    sender_glitch_finding(b, std::nullopt, stats.master_turnaround_glitches(), t.requests,
+                          "requests");
+  }
+  for_each_slave(stats, [&](std::uint8_t a, const SlaveStats& s) {
+    if (s.turnaround_glitches_sent >= 3) {
+      sender_glitch_finding(b, a, s.turnaround_glitches_sent, s.responses, "responses");
+    }
+  });
+}
+
+// "slave 3 ×5, slave 7 ×2": the slaves with damaged requests, most first; `only` is the one
+// slave when there is just one.
+std::string damaged_by_slave(const TrafficStats& stats, std::optional<std::uint8_t>& only) {
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> counts;
+  for_each_slave(stats, [&](std::uint8_t a, const SlaveStats& s) {
+    if (s.damaged_requests > 0) counts.emplace_back(s.damaged_requests, a);
+  });
+  std::stable_sort(counts.begin(), counts.end(),
+                   [](const auto& x, const auto& y) { return x.first > y.first; });
+  only = counts.size() == 1 ? std::optional<std::uint8_t>(counts[0].second) : std::nullopt;
+  std::string out;
+  for (const auto& [n, a] : counts) {
+    out += fmt::format("{}slave {} ×{}", out.empty() ? "" : ", ", a, n);
+  }
+  return out;
+}
+
+// Requests the wire damaged and that went unanswered: at least 3. They are kept out of the
+// slaves' timeouts, since a slave must ignore a request it cannot read.
+void damaged_request_rule(const TrafficStats& stats, Builder& b) {
+  const Totals& t = stats.totals();
+  if (t.damaged_requests < 3) return;
+  std::optional<std::uint8_t> only;
+  const std::string by_slave = damaged_by_slave(stats, only);
+  const double share = std::min(1.0, ratio(t.damaged_requests, t.requests));
+  Finding& f = b.add("damaged_requests", Severity::kWarning, only, share);
+  f.summary = fmt::format(
+      "{} requests arrived damaged (bad CRC, truncated or line errors) and went unanswered "
+      "({}); they are not counted as the slaves' timeouts",
+      t.damaged_requests, by_slave);
+  f.cause =
+      "the wire damaged the master's requests, so the slaves rightly ignored them; the slaves "
+      "are not failing: look for noise, termination, bias or the master's transmitter";
+  ev(f, "damaged_requests", static_cast<double>(t.damaged_requests));
+  ev(f, "requests", static_cast<double>(t.requests));
+  ev(f, "timeouts", static_cast<double>(t.timeouts));
+}
+
 void per_slave_rules(const TrafficStats& stats, Builder& b) {
   const Totals& t = stats.totals();
   const CaptureInfo& info = stats.capture();
@@ -195,13 +271,15 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
       ev(f, "unsolicited", static_cast<double>(s.unsolicited));
     }
 
-    // Not answering at all, or sometimes: ≥ 3 timeouts.
+    // Not answering at all, or sometimes: ≥ 3 timeouts. Shares are of the intact requests,
+    // since only those have timeouts (damaged ones: damaged_request_rule).
     if (s.timeouts >= 3) {
-      const double share = ratio(s.timeouts, s.requests);
+      const double share = ratio(s.timeouts, s.intact_requests);
+      const std::string_view requests = s.intact_requests == s.requests ? "" : "intact ";
       if (share >= 0.5) {
         Finding& f = b.add("slave_not_responding", Severity::kError, a, share);
-        f.summary = fmt::format("slave {} left {} of its {} requests ({}) unanswered", a,
-                                s.timeouts, s.requests, pct(share));
+        f.summary = fmt::format("slave {} left {} of its {} {}requests ({}) unanswered", a,
+                                s.timeouts, s.intact_requests, requests, pct(share));
         f.cause = s.responses == 0
                       ? "no device answers at this address: it is off, disconnected, set to "
                         "another address, or uses other line settings"
@@ -209,17 +287,19 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
                         "settings and its drop";
         ev(f, "timeouts", static_cast<double>(s.timeouts));
         ev(f, "requests", static_cast<double>(s.requests));
+        ev(f, "intact_requests", static_cast<double>(s.intact_requests));
         ev(f, "responses", static_cast<double>(s.responses));
       } else if (share >= 0.01) {
         Finding& f = b.add("slave_timeouts", Severity::kWarning, a, share);
-        f.summary = fmt::format("slave {} missed {} of its {} requests ({})", a, s.timeouts,
-                                s.requests, pct(share));
+        f.summary = fmt::format("slave {} missed {} of its {} {}requests ({})", a, s.timeouts,
+                                s.intact_requests, requests, pct(share));
         f.cause = s.late > 0 || s.after_next_request > 0
                       ? "its answers are sometimes slower than the master's timeout"
                       : "requests or answers are lost on the line (noise), or the device is "
                         "busy and drops requests";
         ev(f, "timeouts", static_cast<double>(s.timeouts));
         ev(f, "requests", static_cast<double>(s.requests));
+        ev(f, "intact_requests", static_cast<double>(s.intact_requests));
       }
     }
 
@@ -403,17 +483,24 @@ void bus_rules(const TrafficStats& stats, Builder& b) {
     ev(f, "peak_utilisation", std::min(peak, 1.0) * 100.0, "%");
   }
 
-  // Noise beyond the turnaround glitches: ≥ 8 bytes and ≥ 0.1% of the bytes.
-  std::uint64_t glitch_bytes = stats.glitch_bytes_00() + stats.glitch_bytes_ff();
-  const std::uint64_t other = t.noise_bytes > glitch_bytes ? t.noise_bytes - glitch_bytes : 0;
+  // Noise beyond both kinds of turnaround glitches: ≥ 8 bytes and ≥ 0.1% of the bytes.
+  // Bytes and stretches (records) are counted over the same records, like the totals' noise.
+  const std::uint64_t other = stats.unexplained_noise_bytes();
+  const std::uint64_t stretches = stats.unexplained_noise_records();
   if (other >= 8 && ratio(other, t.bytes) >= 0.001) {
     Finding& f = b.add("noise", Severity::kWarning, std::nullopt, ratio(other, t.bytes));
     f.summary = fmt::format("{} bytes ({} of all bytes) in {} stretches form no Modbus frame",
-                            other, pct(ratio(other, t.bytes)), t.noise_records);
+                            other, pct(ratio(other, t.bytes)), stretches);
+    if (stretches != t.noise_records) {
+      f.summary += fmt::format(
+          " (of {} noise bytes in {} records; the other {} records are turnaround glitches)",
+          t.noise_bytes, t.noise_records, t.noise_records - stretches);
+    }
     f.cause =
         "interference, collisions between two talkers, or a device with other line settings "
         "produce bytes no frame explains";
     ev(f, "noise_bytes", static_cast<double>(other));
+    ev(f, "noise_records", static_cast<double>(stretches));
     ev(f, "bytes", static_cast<double>(t.bytes));
   }
 }
@@ -424,6 +511,8 @@ std::vector<Finding> find_problems(const TrafficStats& stats) {
   Builder b;
   crc_rules(stats, b);
   glitch_rule(stats, b);
+  sender_glitch_rule(stats, b);
+  damaged_request_rule(stats, b);
   per_slave_rules(stats, b);
   line_error_rules(stats, b);
   exception_rule(stats, b);

@@ -10,6 +10,9 @@
 //   crc_errors_long_frames        CRC error rate grows with frame length
 //   crc_errors_spread             CRC errors on several slaves and lengths alike
 //   turnaround_glitches           lone 0x00/0xFF bytes right after a turnaround
+//   turnaround_glitch             lone bytes the framer flagged right after one sender's
+//                                 frames: that sender's RS-485 driver (one per sender)
+//   damaged_requests              requests the wire damaged went unanswered (not timeouts)
 //   pauses_in_responses           silences > t1.5 inside one slave's responses
 //   responses_after_next_request  a slave's answers arrive after the master moved on
 //   unsolicited_responses         responses with no request (not explained as late answers)
@@ -22,7 +25,7 @@
 //   master_polls_too_fast         requests start < t3.5 after the previous frame
 //   responses_too_soon            a slave answers < t3.5 after the request
 //   bus_busy                      the line is nearly always carrying bytes
-//   noise                         bytes that form no frame, beyond turnaround glitches
+//   noise                         bytes that form no frame, beyond both turnaround glitches
 #include <cstdint>
 #include <optional>
 #include <string>

@@ -166,6 +166,8 @@ void summary(Out& o, const TrafficStats& stats) {
   row("total-bytes", "bytes on the line", fmt::format("{}", t.bytes));
   row("total-noise", "noise bytes (in records)",
       fmt::format("{} ({})", t.noise_bytes, t.noise_records));
+  row("total-damaged-requests", "damaged requests, unanswered (not timeouts)",
+      fmt::format("{}", t.damaged_requests));
   row("total-late", "late responses", fmt::format("{}", t.late));
   row("total-unsolicited", "unsolicited / wrong slave",
       fmt::format("{} / {}", t.unsolicited, t.wrong_slave));
@@ -342,7 +344,8 @@ void slave_table(Out& o, const TrafficStats& stats) {
       "<section id=\"slaves\"><h2>Slaves</h2><div class=\"scroll\"><table><thead><tr><th "
       "class=\"l\">slave</th>"
       "<th class=\"l\">device</th><th>requests</th><th>responses</th><th>exceptions</th>"
-      "<th>timeouts</th><th>CRC errors</th><th>unsolicited</th><th>wrong slave</th>"
+      "<th>timeouts</th><th>damaged requests</th><th>CRC errors</th><th>unsolicited</th>"
+      "<th>wrong slave</th>"
       "<th>latency min</th><th>p50</th><th>p95</th><th>p99</th><th>max (ms)</th>"
       "<th class=\"l\">functions</th></tr></thead><tbody>");
   for (unsigned a = 1; a < 256; ++a) {
@@ -351,11 +354,11 @@ void slave_table(Out& o, const TrafficStats& stats) {
     put(o,
         "<tr id=\"slave-{}\"><td class=\"l\">{}</td><td class=\"l\">{}</td><td "
         "class=\"req\">{}</td>"
-        "<td class=\"rsp\">{}</td>{}{}{}{}{}",
+        "<td class=\"rsp\">{}</td>{}{}{}{}{}{}",
         a, a, device_cell(stats, static_cast<std::uint8_t>(a)), s->requests, s->responses,
         count_cell(s->exceptions, true), count_cell(s->timeouts, true),
-        count_cell(s->crc_errors, true), count_cell(s->unsolicited, true),
-        count_cell(s->wrong_slave, true));
+        count_cell(s->damaged_requests, true), count_cell(s->crc_errors, true),
+        count_cell(s->unsolicited, true), count_cell(s->wrong_slave, true));
     if (s->latency.empty()) {
       put(o, "<td colspan=\"5\" class=\"num0\">no timed answers</td>");
     } else {
@@ -373,7 +376,7 @@ void slave_table(Out& o, const TrafficStats& stats) {
     put(o, "</td></tr>");
     for (const auto& [code, n] : s->exception_codes) {
       put(o,
-          "<tr><td></td><td class=\"l\" colspan=\"14\" style=\"color:var(--muted)\">exception "
+          "<tr><td></td><td class=\"l\" colspan=\"15\" style=\"color:var(--muted)\">exception "
           "{:02X} {} &times;{}</td></tr>",
           code, escaped(stats.exception_name(static_cast<std::uint8_t>(a), code)), n);
     }
@@ -513,6 +516,12 @@ void timing_section(Out& o, const TrafficStats& stats) {
       stats.t15_observable() ? fmt::format("{}", t.t15_frames) : "not observable");
   put(o, "<tr><th class=\"l\">frames &lt; t3.5 after the previous one</th><td>{}</td></tr>",
       stats.t35_observable() ? fmt::format("{}", t.t35_frames) : "not observable");
+  put(o,
+      "<tr><th class=\"l\">lone bytes right after a frame (driver glitches at turnaround): "
+      "after the master's frames / after slaves' frames</th><td id=\"turnaround-glitch\">{} / "
+      "{}</td></tr>",
+      stats.master_turnaround_glitches(),
+      t.turnaround_glitch_records - stats.master_turnaround_glitches());
   for (unsigned a = 1; a < 256; ++a) {
     const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
     if (s == nullptr) continue;

@@ -100,6 +100,7 @@ void write_totals(JsonWriter& j, const TrafficStats& stats) {
   j.field("crc_errors", t.crc_errors);
   j.field("exceptions", t.exceptions);
   j.field("timeouts", t.timeouts);
+  j.field("damaged_requests", t.damaged_requests);
   j.field("late_responses", t.late);
   j.field("unsolicited", t.unsolicited);
   j.field("wrong_slave", t.wrong_slave);
@@ -150,6 +151,7 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   }
   j.end_array();
   j.field("timeouts", s.timeouts);
+  j.field("damaged_requests", s.damaged_requests);
   j.field("late_responses", s.late);
   j.field("crc_errors", s.crc_errors);
   j.field("unsolicited", s.unsolicited);
@@ -217,6 +219,7 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   j.field("t3_5_responses_too_soon", s.t35_responses);
   j.field("t3_5_requests_too_soon", s.t35_requests);
   j.field("turnaround_glitches", s.glitches_after_request);
+  j.field("turnaround_glitch_sent", s.turnaround_glitches_sent);
   j.end_object();
   j.key("timeout_fit");
   j.begin_array();
@@ -258,6 +261,13 @@ void write_timing(JsonWriter& j, const TrafficStats& stats) {
   j.field("after_responses", stats.glitches_after_response());
   j.field("bytes_00", stats.glitch_bytes_00());
   j.field("bytes_ff", stats.glitch_bytes_ff());
+  j.end_object();
+  // Lone bytes the framer flagged `turnaround_glitch`, by sender (slaves: per slave).
+  j.key("turnaround_glitch");
+  j.begin_object();
+  j.field("records", stats.totals().turnaround_glitch_records);
+  j.field("bytes", stats.totals().turnaround_glitch_bytes);
+  j.field("from_master", stats.master_turnaround_glitches());
   j.end_object();
   j.end_object();
 }

@@ -23,6 +23,19 @@ std::string latency_text(const LogHistogram& h) {
                      to_millis(h.quantile(0.99)), to_millis(h.max()));
 }
 
+// "2 after the master's frames, 3 after slave 4's": who sent the frames that the framer's
+// turnaround glitches followed.
+std::string glitch_senders(const TrafficStats& stats) {
+  std::string out = fmt::format("{} after the master's frames", stats.master_turnaround_glitches());
+  for (unsigned a = 1; a < 256; ++a) {
+    const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
+    if (s != nullptr && s->turnaround_glitches_sent > 0) {
+      out += fmt::format(", {} after slave {}'s", s->turnaround_glitches_sent, a);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 void write_report_text(OutputStream& out, const TrafficStats& stats,
@@ -43,6 +56,7 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "  crc errors        {}", t.crc_errors);
   line(o, "  exceptions        {}", t.exceptions);
   line(o, "  timeouts          {} ({} late responses)", t.timeouts, t.late);
+  line(o, "  damaged requests  {} (unanswered; not counted as timeouts)", t.damaged_requests);
   line(o, "  unsolicited       {} ({} from the wrong slave)", t.unsolicited, t.wrong_slave);
   line(o, "  line errors       {} ({} parity, {} framing, {} break, {} overrun)",
        t.line_error_records, t.parity_errors, t.framing_errors, t.breaks, t.overruns);
@@ -59,8 +73,8 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "");
 
   line(o, "SLAVES  latency ms = min/p50/p95/p99/max");
-  line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", "slave", "device", "requests",
-       "answers", "exc", "timeouts", "crc", "unsol", "latency ms");
+  line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>7} {:>5} {:>6}  {}", "slave", "device",
+       "requests", "answers", "exc", "timeouts", "damaged", "crc", "unsol", "latency ms");
   bool any_identified = false;
   for (unsigned a = 1; a < 256; ++a) {
     const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
@@ -69,10 +83,10 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
     const std::string_view model = stats.device_model(address);
     const bool identified = stats.device_model_identified(address);
     any_identified = any_identified || identified;
-    line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>5} {:>6}  {}", a,
+    line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>7} {:>5} {:>6}  {}", a,
          model.empty() ? "-" : fmt::format("{}{}", model, identified ? "*" : ""), s->requests,
-         s->responses, s->exceptions, s->timeouts, s->crc_errors, s->unsolicited,
-         latency_text(s->latency));
+         s->responses, s->exceptions, s->timeouts, s->damaged_requests, s->crc_errors,
+         s->unsolicited, latency_text(s->latency));
     for (const auto& [code, n] : s->exception_codes) {
       line(o, "        exception {:02X} {} ×{}", code, stats.exception_name(address, code), n);
     }
@@ -111,6 +125,8 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
        stats.t15_observable() ? "" : " (not observable in this capture)");
   line(o, "  t3.5 violations                {}{}", t.t35_frames,
        stats.t35_observable() ? "" : " (not observable in this capture)");
+  line(o, "  driver glitches at turnaround  {} ({})", t.turnaround_glitch_records,
+       glitch_senders(stats));
   out.write(o);
 }
 

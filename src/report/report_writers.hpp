@@ -7,25 +7,29 @@
 //              per_byte_timing, response_timeout_ms, timing_note}
 //   totals    {start, end (seconds, input clock), duration_s, records, frames, requests,
 //              responses, broadcasts, unknown_role, bytes, noise_records, noise_bytes,
-//              bus_utilisation_pct, crc_errors, exceptions, timeouts, late_responses,
+//              bus_utilisation_pct, crc_errors, exceptions, timeouts (intact requests
+//              unanswered), damaged_requests (damaged requests unanswered), late_responses,
 //              unsolicited, wrong_slave, line_errors {records, parity, framing, break,
 //              overrun}, t1_5_pauses, t3_5_violations, timing_resolution_ms, slaves,
 //              request_kinds, request_kinds_overflow, points, points_overflow}
 //   slaves    {"<addr>": {device (model, null when unknown), device_model_source
 //              ("configured" by --device/--bus, "identified" from the traffic, null), requests,
 //              responses, exceptions, exceptions_by_code [{code, name (the device map's own meaning
-//              where it has one), count}], timeouts, late_responses, crc_errors, unsolicited,
+//              where it has one), count}], timeouts, damaged_requests, late_responses,
+//              crc_errors, unsolicited,
 //              wrong_slave, after_next_request, frames, bytes, line_errors, latency_ms {min, p50,
 //              p95, p99, max, mean} (null when no answer was timed), latency_samples,
 //              function_codes [{fc, name, count}], poll_periods [{fc, function, addr, qty (null for
 //              functions without a range), count, responses, exceptions, timeouts, period_ms {min,
 //              p50, p95, max} (null below two requests)}], timing {t1_5_pauses_requests,
 //              t1_5_pauses_responses, t3_5_responses_too_soon, t3_5_requests_too_soon,
-//              turnaround_glitches}, timeout_fit [{timeout_ms, lost, lost_pct}]}}
+//              turnaround_glitches, turnaround_glitch_sent (framer-flagged glitches after
+//              its responses)}, timeout_fit [{timeout_ms, lost, lost_pct}]}}
 //   timing    {t1_5_observable, t3_5_observable, t1_5_pauses, t3_5_violations,
 //              slave_turnaround_ms {min, p50, p95, p99, max, mean} | null,
 //              master_turnaround_ms {...} | null, turnaround_glitches
-//              {after_requests, after_responses, bytes_00, bytes_ff}}
+//              {after_requests, after_responses, bytes_00, bytes_ff}, turnaround_glitch
+//              {records, bytes, from_master} (noise the framer flagged `turnaround_glitch`)}
 //   findings  [{key, severity, slave (null), summary, cause, evidence {name: number},
 //              units {name: unit}}] ranked, most important first
 //   timeline  {start (s), bucket_s, frames [], requests [], responses [], crc_errors [],

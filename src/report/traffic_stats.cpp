@@ -20,6 +20,12 @@ std::string_view length_class_name(std::size_t cls) {
   return cls < kNames.size() ? kNames[cls] : "?";
 }
 
+bool is_damaged(const Record& frame) {
+  return !frame.crc_ok || frame.line_errors != 0 || frame.issues.has(IssueId::kTruncated) ||
+         frame.issues.has(IssueId::kTooLong) || frame.issues.has(IssueId::kLineError) ||
+         frame.issues.has(IssueId::kBreak) || frame.issues.has(IssueId::kOverrun);
+}
+
 double Totals::utilisation() const {
   const Nanos d = duration();
   if (d <= 0) return 0.0;
@@ -126,6 +132,14 @@ RequestKind kind_of(const Record& request) {
   return k;
 }
 
+// A damaged frame that still reads as a request: an address a request can carry (not a
+// broadcast, which expects no answer) and a function a master sends.
+bool reads_as_request(const Record& r) {
+  const std::uint8_t function = r.function();
+  return r.size >= 4 && r.slave() >= 1 && r.slave() <= 247 &&
+         (is_public_function(function) || is_user_defined_function(function));
+}
+
 bool is_glitch(const Record& r) {
   if (r.size == 0 || r.size > 2) return false;
   return std::all_of(r.bytes().begin(), r.bytes().end(),
@@ -161,6 +175,8 @@ void TrafficStats::on_record(Record& r) {
 }
 
 void TrafficStats::count_frame(const Record& r) {
+  settle_unknown_request(r);
+  last_sender_ = r.role == Role::kResponse ? std::optional<std::uint8_t>(r.slave()) : std::nullopt;
   TrafficBucket& bucket = timeline_.at(r.t_start);
   ++totals_.frames;
   ++bucket.frames;
@@ -196,6 +212,7 @@ void TrafficStats::count_frame(const Record& r) {
     case Role::kResponse: count_response(r); break;
     case Role::kUnknown:
       ++totals_.unknown_role;
+      note_unknown_frame(r);
       previous_ = Previous::kOther;
       break;
   }
@@ -210,22 +227,21 @@ void TrafficStats::count_request(const Record& r) {
   }
   previous_ = Previous::kRequest;
   const bool timed_out = r.issues.has(IssueId::kTimeout);
+  const bool damaged = is_damaged(r);
   if (r.slave() == 0) {
     ++totals_.broadcasts;
     awaiting_.reset();
   } else {
     SlaveStats& s = slave_mut(r.slave());
     ++s.requests;
+    if (!damaged) ++s.intact_requests;
     ++s.functions[r.function()];
     if (r.issues.has(IssueId::kT15)) ++s.t15_requests;
     if (r.issues.has(IssueId::kT35)) ++s.t35_requests;
-    if (timed_out) {
-      ++totals_.timeouts;
-      ++bucket.timeouts;
-      ++s.timeouts;
-      timed_out_slave_ = r.slave();
-    }
+    if (timed_out) count_timeout(r, damaged);
     awaiting_ = r.slave();
+    awaited_end_ = r.t_end;
+    awaited_timed_out_ = timed_out;
   }
 
   const RequestKind kind = kind_of(r);
@@ -243,7 +259,55 @@ void TrafficStats::count_request(const Record& r) {
   RequestKindStats& k = it->second;
   ++k.count;
   k.last_t = r.t_start;
-  if (timed_out) ++k.timeouts;
+  if (timed_out && !damaged) ++k.timeouts;
+}
+
+// The tracker marks every unanswered request `timeout`; which side failed depends on the
+// request: the slave ignores one the wire damaged, so only an intact one is its timeout.
+void TrafficStats::count_timeout(const Record& request, bool damaged) {
+  timed_out_slave_ = request.slave();
+  if (damaged) {
+    count_damaged_request(request.slave());
+    return;
+  }
+  ++totals_.timeouts;
+  ++timeline_.at(request.t_start).timeouts;
+  ++slave_mut(request.slave()).timeouts;
+}
+
+void TrafficStats::count_damaged_request(std::uint8_t slave) {
+  ++totals_.damaged_requests;
+  ++slave_mut(slave).damaged_requests;
+}
+
+// A damaged frame the tracker could give no role (it fits no length rule) gets no timeout
+// verdict either, yet it is often the master's request with a byte lost or garbled. It is
+// taken as one when it reads as a request and no answer can still be on its way: none is
+// awaited, or the awaited request already timed out and the response timeout has passed
+// since it ended (before that, it is more likely that slave's damaged answer).
+void TrafficStats::note_unknown_frame(const Record& r) {
+  if (!is_damaged(r) || !reads_as_request(r)) return;
+  const bool answer_due = awaiting_ && !(awaited_timed_out_ && awaited_end_ != kUnknownTime &&
+                                         r.t_start - awaited_end_ > info_.response_timeout);
+  if (answer_due) return;
+  unknown_request_ = r.slave();
+  awaiting_ = r.slave();
+  awaited_end_ = r.t_end;
+  awaited_timed_out_ = false;
+}
+
+// The frame after a damaged request read from an unknown-role frame decides its fate: an
+// answer from its slave means the slave read it intact (the damage was at the capture's
+// tap); anything else means it went unanswered. At the end of the capture it stays without
+// a verdict, as the tracker leaves a request whose timeout has not run out.
+void TrafficStats::settle_unknown_request(const Record& next) {
+  if (!unknown_request_) return;
+  const std::uint8_t slave = *unknown_request_;
+  unknown_request_.reset();
+  const bool answered = next.role == Role::kResponse && next.slave() == slave;
+  if (answered) return;
+  count_damaged_request(slave);
+  awaiting_.reset();  // the master has moved on: no answer is due any more
 }
 
 void TrafficStats::count_response(const Record& r) {
@@ -297,20 +361,46 @@ void TrafficStats::count_response(const Record& r) {
   }
 }
 
+// Every noise record is counted once in the totals and once more in exactly one of: the
+// framer's turnaround glitches, the 0x00/0xFF bytes after a turnaround, or the rest (the
+// `noise` finding). So the rest's records and bytes are counted over the same records.
 void TrafficStats::count_noise(const Record& r) {
   ++totals_.noise_records;
   totals_.noise_bytes += r.size;
   timeline_.at(r.t_start).noise_bytes += r.size;
-  if (is_glitch(r)) {
-    const bool after_request = previous_ == Previous::kRequest && awaiting_;
-    const bool after_response = previous_ == Previous::kResponse;
-    if (after_request) ++slave_mut(*awaiting_).glitches_after_request;
-    if (after_response) ++glitches_after_response_;
-    if (after_request || after_response) {
-      for (const std::uint8_t b : r.bytes()) ++(b == 0 ? glitch_00_ : glitch_ff_);
-    }
+  if (r.issues.has(IssueId::kTurnaroundGlitch)) {
+    count_turnaround_glitch(r);
+  } else if (!count_glitch_after_turnaround(r)) {
+    ++other_noise_records_;
+    other_noise_bytes_ += r.size;
   }
   previous_ = Previous::kOther;
+}
+
+// The framer flags a lone byte that follows a frame within about a character: the driver of
+// that frame's sender glitching as it releases the line. The sender is the slave when the
+// frame was its response, else the master.
+void TrafficStats::count_turnaround_glitch(const Record& r) {
+  ++totals_.turnaround_glitch_records;
+  totals_.turnaround_glitch_bytes += r.size;
+  if (last_sender_) {
+    ++slave_mut(*last_sender_).turnaround_glitches_sent;
+  } else {
+    ++master_glitches_;
+  }
+}
+
+// 0x00/0xFF bytes right after a request or response (a false start bit while nobody drives
+// the line); false when `r` is not one.
+bool TrafficStats::count_glitch_after_turnaround(const Record& r) {
+  if (!is_glitch(r)) return false;
+  const bool after_request = previous_ == Previous::kRequest && awaiting_;
+  const bool after_response = previous_ == Previous::kResponse;
+  if (!after_request && !after_response) return false;
+  if (after_request) ++slave_mut(*awaiting_).glitches_after_request;
+  if (after_response) ++glitches_after_response_;
+  for (const std::uint8_t b : r.bytes()) ++(b == 0 ? glitch_00_ : glitch_ff_);
+  return true;
 }
 
 void TrafficStats::count_line_errors(const Record& r) {

@@ -36,6 +36,10 @@ inline constexpr std::size_t kLengthClasses = 4;
 std::size_t length_class(std::size_t frame_bytes);
 std::string_view length_class_name(std::size_t cls);  // "<16", "16-63", ...
 
+// Whether the wire damaged a frame (bad CRC, truncated, too long, parity/framing/break/
+// overrun on its bytes): a slave's receiver drops such a request instead of answering it.
+bool is_damaged(const Record& frame);
+
 struct Totals {
   Nanos first_t = kUnknownTime;  // start of the first record
   Nanos last_t = kUnknownTime;   // end of the last record
@@ -50,10 +54,14 @@ struct Totals {
   std::uint64_t noise_bytes = 0;
   std::uint64_t crc_errors = 0;
   std::uint64_t exceptions = 0;
-  std::uint64_t timeouts = 0;
+  std::uint64_t timeouts = 0;          // intact requests that got no answer (SlaveStats)
+  std::uint64_t damaged_requests = 0;  // damaged requests that got no answer (SlaveStats)
   std::uint64_t late = 0;
   std::uint64_t unsolicited = 0;
   std::uint64_t wrong_slave = 0;
+  // Noise records the framer flagged `turnaround_glitch`, and their bytes (part of noise_*).
+  std::uint64_t turnaround_glitch_records = 0;
+  std::uint64_t turnaround_glitch_bytes = 0;
   std::uint64_t line_error_records = 0;  // records with any parity/framing/break/overrun
   std::uint64_t parity_errors = 0;       // records with a parity error (and so on)
   std::uint64_t framing_errors = 0;
@@ -73,10 +81,17 @@ struct Totals {
 };
 
 struct SlaveStats {
-  std::uint64_t requests = 0;   // requests addressed to this slave
-  std::uint64_t responses = 0;  // responses from this slave
+  std::uint64_t requests = 0;         // requests addressed to this slave
+  std::uint64_t intact_requests = 0;  // of those, the ones with no damage (is_damaged)
+  std::uint64_t responses = 0;        // responses from this slave
   std::uint64_t exceptions = 0;
-  std::uint64_t timeouts = 0;    // requests to it that got no response in time
+  // Intact requests to it that got no response in time: the slave's own failures.
+  std::uint64_t timeouts = 0;
+  // Requests to it that the wire had damaged (bad CRC, truncated, line errors) and that got
+  // no answer: a slave rightly ignores such a request, so these are not its timeouts. They
+  // include damaged frames whose role the tracker left unknown but that read as a request
+  // from the master (see TrafficStats::note_unknown_frame).
+  std::uint64_t damaged_requests = 0;
   std::uint64_t late = 0;        // responses after the response timeout
   std::uint64_t crc_errors = 0;  // frames carrying its address with a bad CRC
   std::uint64_t unsolicited = 0;
@@ -96,6 +111,8 @@ struct SlaveStats {
   std::uint64_t t35_requests = 0;   // requests to it starting < t3.5 after the previous frame
   // Single 0x00/0xFF noise bytes right after a request to it (its turnaround).
   std::uint64_t glitches_after_request = 0;
+  // Noise flagged `turnaround_glitch` right after one of its responses: its own driver.
+  std::uint64_t turnaround_glitches_sent = 0;
   // Records with line errors while its answer was awaited, or carrying its address.
   std::uint64_t line_errors = 0;
   std::array<std::uint64_t, kLengthClasses> frames_by_length{};
@@ -203,6 +220,12 @@ class TrafficStats : public RecordSink, private PointSink {
   [[nodiscard]] std::uint64_t glitch_bytes_ff() const { return glitch_ff_; }
   // Line-error records with nobody's answer awaited and no slave address to blame.
   [[nodiscard]] std::uint64_t line_errors_unattributed() const { return line_errors_unattributed_; }
+  // Noise flagged `turnaround_glitch` right after a frame the master sent.
+  [[nodiscard]] std::uint64_t master_turnaround_glitches() const { return master_glitches_; }
+  // Noise that neither kind of turnaround glitch explains: what the `noise` finding is about.
+  // Records and bytes are counted over the same records, as in Totals::noise_*.
+  [[nodiscard]] std::uint64_t unexplained_noise_records() const { return other_noise_records_; }
+  [[nodiscard]] std::uint64_t unexplained_noise_bytes() const { return other_noise_bytes_; }
 
   // Whether the capture's timestamps can show pauses of t1.5 / t3.5.
   [[nodiscard]] bool t15_observable() const;
@@ -214,7 +237,13 @@ class TrafficStats : public RecordSink, private PointSink {
   void count_frame(const Record& r);
   void count_request(const Record& r);
   void count_response(const Record& r);
+  void count_timeout(const Record& request, bool damaged);
+  void count_damaged_request(std::uint8_t slave);
+  void note_unknown_frame(const Record& r);
+  void settle_unknown_request(const Record& next);
   void count_noise(const Record& r);
+  void count_turnaround_glitch(const Record& r);
+  bool count_glitch_after_turnaround(const Record& r);
   void count_line_errors(const Record& r);
 
   PointSource* point_source_;
@@ -235,7 +264,17 @@ class TrafficStats : public RecordSink, private PointSink {
   enum class Previous : std::uint8_t { kNothing, kRequest, kResponse, kOther };
   Previous previous_ = Previous::kNothing;
   std::optional<std::uint8_t> awaiting_;         // slave whose answer is expected
+  Nanos awaited_end_ = kUnknownTime;             // end of the request that set awaiting_
+  bool awaited_timed_out_ = false;               // the tracker's verdict on that request
   std::optional<std::uint8_t> timed_out_slave_;  // last request that timed out
+  // A damaged unknown-role frame read as the master's request to this slave; whether it was
+  // answered is known at the next frame.
+  std::optional<std::uint8_t> unknown_request_;
+  // Who sent the last frame: a slave (its response) or, when empty, the master.
+  std::optional<std::uint8_t> last_sender_;
+  std::uint64_t master_glitches_ = 0;
+  std::uint64_t other_noise_records_ = 0;
+  std::uint64_t other_noise_bytes_ = 0;
   std::uint64_t glitches_after_response_ = 0;
   std::uint64_t glitch_00_ = 0;
   std::uint64_t glitch_ff_ = 0;

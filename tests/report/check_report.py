@@ -20,13 +20,13 @@ import sys
 import tempfile
 
 SLAVE_KEYS = ["device", "requests", "responses", "exceptions", "exceptions_by_code",
-              "timeouts", "late_responses", "crc_errors", "unsolicited", "wrong_slave",
+              "timeouts", "damaged_requests", "late_responses", "crc_errors", "unsolicited", "wrong_slave",
               "after_next_request", "frames", "bytes", "line_errors", "latency_ms",
               "latency_samples", "function_codes", "poll_periods", "timing", "timeout_fit"]
 TOTAL_KEYS = ["start", "end", "duration_s", "records", "frames", "requests", "responses",
               "broadcasts", "unknown_role", "bytes", "noise_records", "noise_bytes",
-              "bus_utilisation_pct", "crc_errors", "exceptions", "timeouts", "late_responses",
-              "unsolicited", "wrong_slave", "line_errors", "t1_5_pauses", "t3_5_violations",
+              "bus_utilisation_pct", "crc_errors", "exceptions", "timeouts", "damaged_requests",
+              "late_responses", "unsolicited", "wrong_slave", "line_errors", "t1_5_pauses", "t3_5_violations",
               "timing_resolution_ms", "slaves", "request_kinds", "request_kinds_overflow",
               "points", "points_overflow"]
 FINDING_KEYS = ["key", "severity", "slave", "summary", "cause", "evidence", "units"]
@@ -61,6 +61,8 @@ def check_json(report):
         fail("totals.slaves differs from the slaves table")
     requests = 0
     responses = 0
+    timeouts = 0
+    damaged = 0
     for addr, slave in report["slaves"].items():
         if not addr.isdigit() or not 1 <= int(addr) <= 255:
             fail(f"slave key {addr!r} is not an address")
@@ -74,10 +76,15 @@ def check_json(report):
                 fail(f"slave {addr} latency percentiles out of order: {order}")
         requests += slave["requests"]
         responses += slave["responses"]
+        timeouts += slave["timeouts"]
+        damaged += slave["damaged_requests"]
     if requests + totals["broadcasts"] != totals["requests"]:
         fail(f"per-slave requests {requests} + broadcasts != total {totals['requests']}")
     if responses != totals["responses"]:
         fail(f"per-slave responses {responses} != total {totals['responses']}")
+    if timeouts != totals["timeouts"] or damaged != totals["damaged_requests"]:
+        fail(f"per-slave timeouts/damaged requests {timeouts}/{damaged} != totals "
+             f"{totals['timeouts']}/{totals['damaged_requests']}")
     for finding in report["findings"]:
         for key in FINDING_KEYS:
             if key not in finding:
@@ -85,6 +92,25 @@ def check_json(report):
     timeline = report["timeline"]
     if sum(timeline["frames"]) != totals["frames"]:
         fail("timeline frames do not add up to the total")
+    if sum(timeline["timeouts"]) != totals["timeouts"]:
+        fail("timeline timeouts do not add up to the total")
+    check_noise_finding(report)
+
+
+def check_noise_finding(report):
+    """The noise finding counts bytes and stretches over the same records as the totals:
+    never more, and all the totals' bytes when it counts all their records."""
+    totals = report["totals"]
+    for finding in report["findings"]:
+        if finding["key"] != "noise":
+            continue
+        ev = finding["evidence"]
+        if ev["noise_records"] > totals["noise_records"] or \
+                ev["noise_bytes"] > totals["noise_bytes"]:
+            fail(f"noise finding counts more than the totals: {ev}")
+        if ev["noise_records"] == totals["noise_records"] and \
+                ev["noise_bytes"] != totals["noise_bytes"]:
+            fail(f"noise finding counts all noise records but not all their bytes: {ev}")
 
 
 def expected_numbers(report):
@@ -96,6 +122,7 @@ def expected_numbers(report):
             ("total-crc", str(t["crc_errors"])),
             ("total-exceptions", str(t["exceptions"])),
             ("total-timeouts", str(t["timeouts"])),
+            ("total-damaged-requests", str(t["damaged_requests"])),
             ("total-utilisation", f"{t['bus_utilisation_pct']:.2f}"),
             ("total-slaves", str(t["slaves"]))]
 

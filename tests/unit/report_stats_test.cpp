@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include "bus_builder.hpp"
@@ -512,6 +513,298 @@ TEST(Findings, LineErrorsWhereOneSlaveAnswers) {
   EXPECT_EQ(it->slave, std::uint8_t{6});
   EXPECT_EQ(stats.totals().parity_errors, 10U);
   EXPECT_GT(stats.totals().valid_frames_between_line_errors, 0U);
+}
+
+// ---- Timeouts, damaged requests and turnaround glitches, from records fed by hand --------
+
+// Feeds records straight into TrafficStats, as the tracker would emit them: frames with a
+// role and the tracker's issues, noise with the framer's issues, 20 ms apart.
+class RecordFeed {
+ public:
+  RecordFeed() { stats_.on_capture(info_); }
+
+  void frame(const std::vector<std::uint8_t>& bytes, Role role,
+             std::initializer_list<IssueId> issues = {}, Nanos silence = 20 * kMs) {
+    Record r = make(RecordKind::kFrame, bytes, silence);
+    r.crc_ok = crc16_valid(r.bytes());
+    if (!r.crc_ok) r.issues.add(IssueId::kCrc);
+    for (const IssueId id : issues) r.issues.add(id);
+    r.role = role;
+    stats_.on_record(r);
+  }
+
+  void noise(const std::vector<std::uint8_t>& bytes, std::initializer_list<IssueId> issues = {},
+             Nanos silence = 20 * kMs) {
+    Record r = make(RecordKind::kNoise, bytes, silence);
+    r.issues.add(IssueId::kNoiseBytes);
+    for (const IssueId id : issues) r.issues.add(id);
+    stats_.on_record(r);
+  }
+
+  // The findings once the capture has ended.
+  std::vector<Finding> finish() {
+    stats_.on_finish();
+    return find_problems(stats_);
+  }
+
+  [[nodiscard]] const TrafficStats& stats() const { return stats_; }
+  [[nodiscard]] const CaptureInfo& info() const { return info_; }
+
+ private:
+  Record make(RecordKind kind, const std::vector<std::uint8_t>& bytes, Nanos silence) {
+    Record r;
+    r.kind = kind;
+    std::copy(bytes.begin(), bytes.end(), r.storage.begin());
+    r.size = static_cast<std::uint16_t>(bytes.size());
+    r.t_start = t_ + silence;
+    r.gap_before = silence;
+    r.t_end = r.t_start + static_cast<Nanos>(bytes.size()) * info_.line.char_time();
+    t_ = r.t_end;
+    return r;
+  }
+
+  TrafficStats stats_;
+  CaptureInfo info_;
+  Nanos t_ = kNanosPerSecond;
+};
+
+const Finding* find_finding(const std::vector<Finding>& findings, std::string_view key,
+                            std::optional<std::uint8_t> slave = std::nullopt) {
+  for (const auto& f : findings) {
+    if (f.key == key && (!slave || f.slave == slave)) return &f;
+  }
+  return nullptr;
+}
+
+double evidence_of(const Finding& f, std::string_view name) {
+  for (const auto& e : f.evidence) {
+    if (e.name == name) return e.value;
+  }
+  return -1;
+}
+
+TEST(TrafficStats, AnIntactUnansweredRequestIsATimeout) {
+  RecordFeed feed;
+  feed.frame(read_request(5), Role::kRequest, {IssueId::kTimeout});
+  feed.frame(read_request(1), Role::kRequest, {}, 1100 * kMs);
+  feed.frame(read_response(1), Role::kResponse);
+  feed.finish();
+  const TrafficStats& stats = feed.stats();
+  ASSERT_NE(stats.slave(5), nullptr);
+  EXPECT_EQ(stats.slave(5)->timeouts, 1U);
+  EXPECT_EQ(stats.slave(5)->damaged_requests, 0U);
+  EXPECT_EQ(stats.totals().timeouts, 1U);
+  EXPECT_EQ(stats.totals().damaged_requests, 0U);
+}
+
+TEST(TrafficStats, ABadCrcUnansweredRequestIsDamagedNotATimeout) {
+  RecordFeed feed;
+  feed.frame(corrupt(read_request(5)), Role::kRequest, {IssueId::kTimeout});
+  feed.frame(read_request(1), Role::kRequest, {}, 1100 * kMs);
+  feed.frame(read_response(1), Role::kResponse);
+  feed.finish();
+  const TrafficStats& stats = feed.stats();
+  ASSERT_NE(stats.slave(5), nullptr);
+  EXPECT_EQ(stats.slave(5)->timeouts, 0U);
+  EXPECT_EQ(stats.slave(5)->damaged_requests, 1U);
+  EXPECT_EQ(stats.slave(5)->requests, 1U);
+  EXPECT_EQ(stats.slave(5)->intact_requests, 0U);
+  EXPECT_EQ(stats.totals().timeouts, 0U);
+  EXPECT_EQ(stats.totals().damaged_requests, 1U);
+  // Neither the timeline nor the request kind counts it as a timeout.
+  std::uint64_t timeline_timeouts = 0;
+  for (std::size_t i = 0; i < stats.timeline().size(); ++i) {
+    timeline_timeouts += stats.timeline()[i].timeouts;
+  }
+  EXPECT_EQ(timeline_timeouts, 0U);
+  for (const auto& [kind, k] : stats.request_kinds()) EXPECT_EQ(k.timeouts, 0U);
+}
+
+TEST(TrafficStats, LineErrorsOrTruncationMakeARequestDamaged) {
+  RecordFeed feed;
+  // CRC intact but a parity error on one of its bytes: a slave's UART drops the frame.
+  feed.frame(read_request(5), Role::kRequest, {IssueId::kTimeout, IssueId::kLineError});
+  feed.frame(read_request(6), Role::kRequest, {IssueId::kTimeout, IssueId::kTruncated});
+  feed.frame(read_request(7), Role::kRequest, {IssueId::kTimeout});
+  feed.finish();
+  const TrafficStats& stats = feed.stats();
+  EXPECT_EQ(stats.slave(5)->damaged_requests, 1U);
+  EXPECT_EQ(stats.slave(6)->damaged_requests, 1U);
+  EXPECT_EQ(stats.slave(7)->timeouts, 1U);
+  EXPECT_EQ(stats.totals().timeouts, 1U);
+  EXPECT_EQ(stats.totals().damaged_requests, 2U);
+}
+
+TEST(TrafficStats, ADamagedFrameOfUnknownRoleReadAsAnUnansweredRequest) {
+  RecordFeed feed;
+  auto short_request = read_request(5);
+  short_request.pop_back();  // a byte lost: fits no length rule, so the tracker gives no role
+  feed.frame(read_request(1), Role::kRequest);
+  feed.frame(read_response(1), Role::kResponse);
+  feed.frame(short_request, Role::kUnknown, {}, 50 * kMs);  // nothing is awaited: the master's
+  feed.frame(read_request(2), Role::kRequest, {}, 1100 * kMs);
+  feed.frame(read_response(2), Role::kResponse);
+  // The same frame answered by slave 5: it read the request intact, nothing is counted.
+  feed.frame(short_request, Role::kUnknown, {}, 50 * kMs);
+  feed.frame(read_response(5), Role::kResponse, {IssueId::kUnsolicited});
+  feed.finish();
+  const TrafficStats& stats = feed.stats();
+  ASSERT_NE(stats.slave(5), nullptr);
+  EXPECT_EQ(stats.slave(5)->damaged_requests, 1U);
+  EXPECT_EQ(stats.slave(5)->timeouts, 0U);
+  EXPECT_EQ(stats.slave(5)->requests, 0U);  // its role stays unknown
+  EXPECT_EQ(stats.totals().damaged_requests, 1U);
+  EXPECT_EQ(stats.totals().timeouts, 0U);
+}
+
+TEST(TrafficStats, ADamagedFrameWhileAnAnswerIsDueIsNotARequest) {
+  RecordFeed feed;
+  auto fragment = read_response(3);
+  fragment.resize(5);
+  ASSERT_FALSE(crc16_valid(fragment));
+  // Slave 3's answer, damaged: it comes within the response timeout of the request.
+  feed.frame(read_request(3), Role::kRequest, {IssueId::kTimeout});
+  feed.frame(fragment, Role::kUnknown, {}, 10 * kMs);
+  feed.frame(read_request(3), Role::kRequest, {}, 1100 * kMs);
+  feed.frame(read_response(3), Role::kResponse);
+  // At the end of the capture a damaged request has no verdict yet, like the tracker's.
+  feed.frame(corrupt(read_request(4)), Role::kUnknown, {}, 50 * kMs);
+  feed.finish();
+  const TrafficStats& stats = feed.stats();
+  EXPECT_EQ(stats.totals().damaged_requests, 0U);
+  EXPECT_EQ(stats.slave(3)->timeouts, 1U);
+}
+
+// The same through the decoder: the tracker's verdicts reach the statistics as they are.
+TEST(TrafficStats, DecodedBadCrcAndShortRequestsAreDamagedNotTimeouts) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  bus.add(read_request(5), 50 * kMs);             // intact, never answered: a timeout
+  bus.add(corrupt(read_request(5)), 1100 * kMs);  // role request, bad CRC
+  bus.add(read_request(1), 1100 * kMs);
+  bus.add(read_response(1), 10 * kMs);
+  auto short_request = read_request(5);
+  short_request.erase(short_request.begin() + 3);  // a byte lost: fits no length, role unknown
+  bus.add(short_request, 50 * kMs);
+  bus.add(read_request(2), 1100 * kMs);
+  bus.add(read_response(2), 10 * kMs);
+  const Analysis a = analyse(bus);
+  EXPECT_EQ(a.stats->totals().unknown_role, 1U);
+  ASSERT_NE(a.stats->slave(5), nullptr);
+  EXPECT_EQ(a.stats->slave(5)->timeouts, 1U);
+  EXPECT_EQ(a.stats->slave(5)->damaged_requests, 2U);
+  EXPECT_EQ(a.stats->totals().timeouts, 1U);
+  EXPECT_EQ(a.stats->totals().damaged_requests, 2U);
+}
+
+TEST(Findings, DamagedRequestsAreTheWiresFaultNotTheSlaves) {
+  RecordFeed feed;
+  for (int c = 0; c < 10; ++c) {
+    feed.frame(read_request(2), Role::kRequest);
+    feed.frame(read_response(2), Role::kResponse);
+    // Every other request to slave 4 is damaged and goes unanswered; the rest are answered.
+    if (c % 2 == 0) {
+      feed.frame(corrupt(read_request(4)), Role::kRequest, {IssueId::kTimeout});
+    } else {
+      feed.frame(read_request(4), Role::kRequest);
+      feed.frame(read_response(4), Role::kResponse);
+    }
+  }
+  const auto findings = feed.finish();
+  EXPECT_EQ(feed.stats().slave(4)->damaged_requests, 5U);
+  EXPECT_EQ(feed.stats().slave(4)->timeouts, 0U);
+  const Finding* f = find_finding(findings, "damaged_requests");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{4});
+  EXPECT_EQ(evidence_of(*f, "damaged_requests"), 5.0);
+  EXPECT_NE(f->cause.find("the wire damaged the master's requests"), std::string::npos);
+  EXPECT_NE(f->summary.find("slave 4 ×5"), std::string::npos) << f->summary;
+  // The slave answered every request it could read: no timeout finding blames it.
+  EXPECT_EQ(find_finding(findings, "slave_not_responding"), nullptr);
+  EXPECT_EQ(find_finding(findings, "slave_timeouts"), nullptr);
+}
+
+TEST(Findings, NotRespondingIsAShareOfTheIntactRequests) {
+  RecordFeed feed;
+  // Slave 9 gets 4 intact and 6 damaged requests and answers none: all its intact ones fail.
+  for (int c = 0; c < 10; ++c) {
+    feed.frame(c < 6 ? corrupt(read_request(9)) : read_request(9), Role::kRequest,
+               {IssueId::kTimeout});
+  }
+  const auto findings = feed.finish();
+  const Finding* f = find_finding(findings, "slave_not_responding");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(evidence_of(*f, "timeouts"), 4.0);
+  EXPECT_EQ(evidence_of(*f, "intact_requests"), 4.0);
+  EXPECT_NE(f->summary.find("left 4 of its 4 intact requests (100%)"), std::string::npos)
+      << f->summary;
+  ASSERT_NE(find_finding(findings, "damaged_requests"), nullptr);
+}
+
+TEST(Findings, TurnaroundGlitchesNameTheirSenderAndAreNotNoise) {
+  RecordFeed feed;
+  const Nanos within_a_character = feed.info().line.char_time() / 2;
+  for (int c = 0; c < 12; ++c) {
+    // The master's driver glitches after every request, slave 3's after every other answer.
+    feed.frame(read_request(3), Role::kRequest);
+    feed.noise({0xFE}, {IssueId::kTurnaroundGlitch}, within_a_character);
+    feed.frame(read_response(3), Role::kResponse, {}, 8 * kMs);
+    if (c % 2 == 0) feed.noise({0x00}, {IssueId::kTurnaroundGlitch}, within_a_character);
+  }
+  const auto findings = feed.finish();
+  const TrafficStats& stats = feed.stats();
+  EXPECT_EQ(stats.totals().noise_records, 18U);
+  EXPECT_EQ(stats.totals().turnaround_glitch_records, 18U);
+  EXPECT_EQ(stats.totals().turnaround_glitch_bytes, 18U);
+  EXPECT_EQ(stats.master_turnaround_glitches(), 12U);
+  EXPECT_EQ(stats.slave(3)->turnaround_glitches_sent, 6U);
+  EXPECT_EQ(stats.unexplained_noise_records(), 0U);
+  EXPECT_EQ(stats.unexplained_noise_bytes(), 0U);
+
+  const Finding* master = find_finding(findings, "turnaround_glitch", std::nullopt);
+  ASSERT_NE(master, nullptr);
+  EXPECT_FALSE(master->slave.has_value());
+  EXPECT_EQ(evidence_of(*master, "glitches"), 12.0);
+  EXPECT_EQ(evidence_of(*master, "requests"), 12.0);
+  EXPECT_EQ(master->cause,
+            "the master's RS-485 driver/transceiver glitches at turnaround (driver-enable "
+            "timing or missing bias/termination)");
+  const Finding* slave = find_finding(findings, "turnaround_glitch", std::uint8_t{3});
+  ASSERT_NE(slave, nullptr);
+  EXPECT_EQ(evidence_of(*slave, "glitches"), 6.0);
+  EXPECT_EQ(evidence_of(*slave, "responses"), 12.0);
+  EXPECT_NE(slave->cause.find("slave 3's RS-485 driver/transceiver"), std::string::npos);
+  // Flagged glitches feed neither the interference finding nor the 0x00/0xFF heuristic.
+  EXPECT_EQ(find_finding(findings, "noise"), nullptr);
+  EXPECT_EQ(find_finding(findings, "turnaround_glitches"), nullptr);
+  EXPECT_EQ(stats.glitch_bytes_00(), 0U);
+}
+
+TEST(Findings, NoiseFindingCountsBytesAndStretchesOverTheSameRecords) {
+  RecordFeed feed;
+  for (int c = 0; c < 46; ++c) {
+    feed.frame(read_request(1), Role::kRequest);
+    feed.noise({0x00}, {}, 2 * kMs);  // a 0x00 after the request: a turnaround glitch
+    feed.frame(read_response(1), Role::kResponse, {}, 8 * kMs);
+    if (c < 10) feed.noise({0x13, 0x37, 0x42});  // interference between transactions
+  }
+  const auto findings = feed.finish();
+  const TrafficStats& stats = feed.stats();
+  EXPECT_EQ(stats.totals().noise_records, 56U);
+  EXPECT_EQ(stats.totals().noise_bytes, 76U);
+  EXPECT_EQ(stats.unexplained_noise_records(), 10U);
+  EXPECT_EQ(stats.unexplained_noise_bytes(), 30U);
+  const Finding* f = find_finding(findings, "noise");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(evidence_of(*f, "noise_bytes"), 30.0);
+  EXPECT_EQ(evidence_of(*f, "noise_records"), 10.0);
+  EXPECT_NE(f->summary.find("30 bytes"), std::string::npos) << f->summary;
+  EXPECT_NE(f->summary.find("in 10 stretches"), std::string::npos) << f->summary;
+  EXPECT_NE(f->summary.find("of 76 noise bytes in 56 records; the other 46 records are "
+                            "turnaround glitches"),
+            std::string::npos)
+      << f->summary;
+  EXPECT_EQ(evidence_of(*find_finding(findings, "turnaround_glitches"), "glitches"), 46.0);
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 //  * LINKTYPE_WIRESHARK_UPPER_PDU (252) records for dissector `mbrtu` are frames whose
 //    boundaries are known; records for dissector `data` are noise (rtuscope writes the
 //    bytes that form no frame that way). The record's time is the first byte's start.
+//    Records are delivered whole, however long (DecodePipeline::push_frame splits a frame
+//    record longer than the 256 bytes a record holds).
 // Other link types, other dissectors and malformed records: InputError with the offset.
 #include <cstdint>
 #include <memory>

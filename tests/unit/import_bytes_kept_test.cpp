@@ -15,7 +15,9 @@
 #include "capture/pcap_writer.hpp"
 #include "capture/pcapng_writer.hpp"
 #include "capture/rtac_serial.hpp"
+#include "capture/upper_pdu.hpp"
 #include "capture_test_files.hpp"
+#include "core/crc16.hpp"
 #include "pipeline/replay.hpp"
 #include "report/pcap_export.hpp"
 
@@ -30,6 +32,20 @@ using Bytes = std::vector<std::uint8_t>;
 constexpr Nanos kMs = kNanosPerMilli;
 constexpr Nanos kStart = 1'700'000'000 * kNanosPerSecond;  // pcap cannot hold times before 1970
 
+Bytes& append_crc(Bytes& adu) {
+  const std::uint16_t crc = crc16(adu);
+  adu.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  adu.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  return adu;
+}
+
+// A read-holding-registers response of `count` data bytes (255 bytes long at count 250).
+Bytes long_response(std::uint8_t slave, std::uint8_t count) {
+  Bytes adu = {slave, 0x03, count};
+  for (unsigned i = 0; i < count; ++i) adu.push_back(static_cast<std::uint8_t>(i * 7U + slave));
+  return append_crc(adu);
+}
+
 // Bytes that form no frame (checked by the tests that use them: they come out as noise).
 Bytes garbage(std::size_t n) {
   Bytes out;
@@ -41,6 +57,10 @@ Bytes joined(std::initializer_list<Bytes> parts) {
   Bytes out;
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
   return out;
+}
+
+Bytes bytes_of(const Record& r) {
+  return {r.bytes().begin(), r.bytes().end()};
 }
 
 const Bytes kRequest = {0x01, 0x03, 0x00, 0x32, 0x00, 0x03, 0xA4, 0x04};
@@ -222,6 +242,123 @@ TEST(ImportBytesKept, ExportsReadBack) {
   // An export of an export holds the same bytes again.
   const auto again = export_capture(dir, frames, "again.pcapng", {});
   expect_every_byte_once(decode(again), all_bytes(reads));
+}
+
+// Upper-PDU records as another tool may write them: frame records holding more than one
+// frame, or more bytes than any frame.
+struct PduRecord {
+  Bytes bytes;
+  std::string_view dissector = upper_pdu::kModbusRtuDissector;
+};
+
+std::string upper_pdu_capture(const TempDir& dir, const std::vector<PduRecord>& pdus) {
+  const auto path = (dir.path() / "pdus.pcapng").string();
+  PcapngWriter w(std::make_unique<FileOutput>(path));
+  const auto id = w.add_interface({pcap::kLinkTypeUpperPdu, "", "RS-485 9600 8E1", 9, 0});
+  Bytes record;
+  Nanos t = kStart;
+  for (const auto& pdu : pdus) {
+    build_upper_pdu(pdu.bytes, {pdu.dissector, PduDirection::kUnknown, ""}, record);
+    w.write_packet(id, t, record);
+    t += 2 * kNanosPerSecond;  // records far apart: each gap is a silence
+  }
+  return path;
+}
+
+struct Expected {
+  RecordKind kind;
+  Bytes bytes;
+};
+
+void expect_records(const std::vector<Record>& records, const std::vector<Expected>& expected) {
+  ASSERT_EQ(records.size(), expected.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    EXPECT_EQ(records[i].kind, expected[i].kind) << "record " << i;
+    EXPECT_EQ(bytes_of(records[i]), expected[i].bytes) << "record " << i;
+  }
+}
+
+TEST(ImportBytesKept, OversizeUpperPduFramesAreSplitIntoFramesAndNoise) {
+  TempDir dir;
+  const Bytes first = long_response(0x11, 250);   // 255 bytes
+  const Bytes second = long_response(0x12, 250);  // 255 bytes
+  const Bytes record_300 = joined({first, kRequest, garbage(37)});
+  const Bytes record_600 = joined({first, second, garbage(90)});
+  ASSERT_EQ(record_300.size(), 300U);
+  ASSERT_EQ(record_600.size(), 600U);
+  const auto path = upper_pdu_capture(dir, {{kRequest}, {record_300}, {record_600}});
+
+  const auto records = decode(path);
+  expect_records(records, {{RecordKind::kFrame, kRequest},
+                           {RecordKind::kFrame, first},
+                           {RecordKind::kFrame, kRequest},
+                           {RecordKind::kNoise, garbage(37)},
+                           {RecordKind::kFrame, first},
+                           {RecordKind::kFrame, second},
+                           {RecordKind::kNoise, garbage(90)}});
+  expect_every_byte_once(records, joined({kRequest, record_300, record_600}));
+  for (const auto& r : records) {
+    if (r.kind == RecordKind::kFrame) {
+      EXPECT_TRUE(r.crc_ok);
+    }
+    EXPECT_FALSE(r.issues.has(IssueId::kTooLong));
+  }
+  // Each record's pieces follow one another at the line rate from the record's time; the
+  // timestamps show no silence inside a record.
+  const Nanos char_time = LineSettings{}.char_time();
+  EXPECT_EQ(records[1].t_start, kStart + 2 * kNanosPerSecond);
+  EXPECT_EQ(records[2].t_start, records[1].t_end);
+  EXPECT_EQ(records[3].t_end, records[1].t_start + 300 * char_time);
+  EXPECT_NE(records[1].gap_before, kUnknownTime);
+  EXPECT_EQ(records[2].gap_before, kUnknownTime);
+  EXPECT_EQ(records[5].gap_before, kUnknownTime);
+  EXPECT_FALSE(records[5].issues.has(IssueId::kT35));
+}
+
+TEST(ImportBytesKept, CrcValidOversizeFrameIsTooLongThenNoise) {
+  TempDir dir;
+  // One frame the CRC confirms over all 300 bytes, longer than RTU allows (a vendor's
+  // function code; its length follows no rule).
+  Bytes frame = {0x05, 0x41};
+  for (unsigned i = 0; i < 296; ++i) frame.push_back(static_cast<std::uint8_t>(i));
+  append_crc(frame);
+  ASSERT_EQ(frame.size(), 300U);
+  const Bytes noise_300 = garbage(300);
+  const auto path = upper_pdu_capture(dir, {{frame}, {noise_300, "data"}});
+
+  const auto records = decode(path);
+  const Bytes head(frame.begin(), frame.begin() + 256);
+  const Bytes tail(frame.begin() + 256, frame.end());
+  expect_records(records, {{RecordKind::kFrame, head},
+                           {RecordKind::kNoise, tail},
+                           {RecordKind::kNoise, Bytes(noise_300.begin(), noise_300.begin() + 256)},
+                           {RecordKind::kNoise, Bytes(noise_300.begin() + 256, noise_300.end())}});
+  expect_every_byte_once(records, joined({frame, noise_300}));
+  EXPECT_TRUE(records[0].issues.has(IssueId::kTooLong));
+  EXPECT_FALSE(records[0].issues.has(IssueId::kCrc)) << "its CRC holds over all 300 bytes";
+  EXPECT_FALSE(records[0].crc_ok) << "the record does not hold the CRC: no PDU decoding";
+  EXPECT_EQ(records[0].t_end, records[1].t_start);
+  EXPECT_TRUE(records[1].issues.has(IssueId::kNoiseBytes));
+}
+
+TEST(ImportBytesKept, DamagedOversizeFrameIsNoise) {
+  TempDir dir;
+  Bytes frame = {0x05, 0x41};
+  for (unsigned i = 0; i < 296; ++i) frame.push_back(static_cast<std::uint8_t>(i));
+  append_crc(frame);
+  frame[100] ^= 0x01U;  // the CRC no longer holds
+  const auto records = decode(upper_pdu_capture(dir, {{frame}}));
+  for (const auto& r : records) EXPECT_EQ(r.kind, RecordKind::kNoise);
+  expect_every_byte_once(records, frame);
+}
+
+TEST(ImportBytesKept, OversizeUpperPduRecordsReadBackFromTheirExport) {
+  TempDir dir;
+  const Bytes record_600 =
+      joined({long_response(0x11, 250), long_response(0x12, 250), garbage(90)});
+  const auto input = upper_pdu_capture(dir, {{kRequest}, {record_600}});
+  const auto exported = export_capture(dir, input, "export.pcapng", {});
+  expect_every_byte_once(decode(exported), joined({kRequest, record_600}));
 }
 
 }  // namespace

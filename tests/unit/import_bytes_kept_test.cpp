@@ -217,6 +217,42 @@ TEST(ImportBytesKept, RtacSerialInPcapngAndClassicPcap) {
   expect_every_byte_once(decode(pcap_path), all_bytes(reads));
 }
 
+// A tool with a snap length below a record's length keeps only its start: those bytes are
+// not in the file, and the user is told, in the capture's warnings.
+TEST(ImportBytesKept, RecordsCutBySnapLengthAreReported) {
+  TempDir dir;
+  const auto path = (dir.path() / "cut.pcapng").string();
+  Bytes record;
+  {
+    PcapngWriter w(std::make_unique<FileOutput>(path));
+    const auto raw = w.add_interface({pcap::kLinkTypeRtacSerial, "", "", 9, 0});
+    build_rtac_record(kStart, RtacEvent::kDataRxStart, 0, kRequest, record);
+    w.write_packet(raw, kStart, record);
+    build_rtac_record(kStart + kNanosPerSecond, RtacEvent::kDataRxStart, 0, kResponse, record);
+    PcapngPacketMeta cut;
+    cut.original_length = static_cast<std::uint32_t>(record.size() + 20);
+    w.write_packet(raw, kStart + kNanosPerSecond, record, cut);
+    w.write_packet(raw, kStart + 2 * kNanosPerSecond, record, cut);
+  }
+  CollectingSink sink;
+  ReplayOptions options;
+  options.show_warnings = false;
+  const CaptureInfo info = replay_capture(path, options, sink);
+  expect_every_byte_once(sink.records, joined({kRequest, kResponse, kResponse}));
+  ASSERT_EQ(info.warnings.size(), 1U);
+  EXPECT_NE(info.warnings[0].find("record cut to 23 of its 43 bytes"), std::string::npos)
+      << info.warnings[0];
+  EXPECT_NE(info.warnings[0].find("(2 records cut)"), std::string::npos) << info.warnings[0];
+
+  const auto whole = (dir.path() / "whole.pcapng").string();
+  {
+    PcapngWriter w(std::make_unique<FileOutput>(whole));
+    const auto raw = w.add_interface({pcap::kLinkTypeRtacSerial, "", "", 9, 0});
+    w.write_packet(raw, kStart, record);
+  }
+  EXPECT_TRUE(replay_capture(whole, options, sink).warnings.empty());
+}
+
 // Decodes `input` and exports the records to `out_name`; returns the export's path.
 std::string export_capture(const TempDir& dir, const std::string& input,
                            const std::string& out_name, const PcapExportOptions& options) {

@@ -97,6 +97,15 @@ std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string
   return whole * kNanosPerMilli + fraction;
 }
 
+std::string cut_records_warning(const std::string& file, const CutRecords& cut) {
+  if (cut.count == 0) return "";
+  return fmt::format(
+      "{}: offset {}: record cut to {} of its {} bytes by the capturing tool's snap length{}; "
+      "the missing bytes are not in the file and cannot be decoded",
+      file, cut.first_offset, cut.first_captured, cut.first_original,
+      cut.count > 1 ? fmt::format(" ({} records cut)", cut.count) : "");
+}
+
 PcapImporter::PcapImporter(const std::string& path)
     : reader_(std::make_unique<PcapReader>(
           path, std::vector<std::uint16_t>{pcap::kLinkTypeRtacSerial, pcap::kLinkTypeUpperPdu})) {}
@@ -117,6 +126,14 @@ bool PcapImporter::fetch() {
   if (!declared_) declared_ = parse_line_description(packet_.interface_description);
   if (!resolution_) resolution_ = parse_resolution_description(packet_.interface_description);
   if (!timeout_) timeout_ = parse_timeout_description(packet_.interface_description);
+  if (packet_.original_length > packet_.data.size()) {
+    if (cut_.count == 0) {
+      cut_.first_offset = packet_.offset;
+      cut_.first_captured = packet_.data.size();
+      cut_.first_original = packet_.original_length;
+    }
+    ++cut_.count;
+  }
   have_packet_ = true;
   return true;
 }

@@ -10,7 +10,11 @@
 //  * LINKTYPE_WIRESHARK_UPPER_PDU (252) records for dissector `mbrtu` are frames whose
 //    boundaries are known; records for dissector `data` are noise (rtuscope writes the
 //    bytes that form no frame that way). The record's time is the first byte's start.
+//    Records are delivered whole, however long (DecodePipeline::push_frame splits a frame
+//    record longer than the 256 bytes a record holds).
 // Other link types, other dissectors and malformed records: InputError with the offset.
+// Records the capturing tool cut short (snap length) are read as far as they go and
+// counted (cut_records()), so the caller can say that bytes are missing.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -25,6 +29,17 @@
 #include "serial/line_settings.hpp"
 
 namespace rtu {
+
+// Records whose original length exceeds what the file holds of them.
+struct CutRecords {
+  std::uint64_t count = 0;
+  std::uint64_t first_offset = 0;  // of the first one, in the file
+  std::size_t first_captured = 0;
+  std::uint32_t first_original = 0;
+};
+
+// "FILE: offset N: record cut to X of its Y bytes ..." ("" when nothing was cut).
+std::string cut_records_warning(const std::string& file, const CutRecords& cut);
 
 struct PcapItem {
   enum class Kind : std::uint8_t { kChunk, kFrame, kNoise, kEnd };
@@ -54,6 +69,8 @@ class PcapImporter {
   // The response timeout a live recording was decoded with, from "response timeout <ms> ms".
   [[nodiscard]] std::optional<Nanos> declared_timeout() const { return timeout_; }
   [[nodiscard]] const std::string& name() const;
+  // Records cut short among those read so far.
+  [[nodiscard]] const CutRecords& cut_records() const { return cut_; }
 
  private:
   bool fetch();  // next packet into packet_; false at the end
@@ -65,6 +82,7 @@ class PcapImporter {
   std::optional<LineSettings> declared_;
   std::optional<Nanos> resolution_;
   std::optional<Nanos> timeout_;
+  CutRecords cut_;
   std::optional<InputError> deferred_;
   std::uint8_t pending_errors_ = 0;  // from events without bytes
   std::vector<std::uint8_t> bytes_;

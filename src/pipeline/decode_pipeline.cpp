@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/crc16.hpp"
 #include "framing/frame_classifier.hpp"
 #include "framing/framer.hpp"
 #include "pairing/transaction_tracker.hpp"
@@ -55,6 +56,24 @@ struct DecodePipeline::Impl {
                           Nanos t_end, std::uint64_t origin);
   Nanos last_import_end = kUnknownTime;
   std::uint64_t import_seq = 0;
+
+  void flag_t35(Record& rec) const;
+  void push_noise_records(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
+                          std::uint64_t origin);
+  void push_oversize_frame(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
+                           std::uint64_t origin);
+  void push_too_long_frame(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
+                           std::uint64_t origin);
+
+  // Passes what a framer finds inside one imported record on as imported records: numbered
+  // in the import sequence, the first one's gap measured from the previous import (the
+  // framer saw nothing before it).
+  struct SplitRelay final : RecordSink {
+    explicit SplitRelay(Impl& pipeline) : impl(pipeline) {}
+    void on_record(Record& rec) override;
+    Impl& impl;
+    bool first = true;
+  };
 };
 
 DecodePipeline::DecodePipeline(const PipelineOptions& options, RecordSink& sink)
@@ -109,27 +128,96 @@ Record& DecodePipeline::Impl::imported_record(RecordKind kind, std::span<const s
   return rec;
 }
 
+void DecodePipeline::Impl::flag_t35(Record& rec) const {
+  if (rec.gap_before != kUnknownTime &&
+      rec.gap_before + options.timing_resolution < options.line.t3_5()) {
+    rec.issues.add(IssueId::kT35);
+  }
+}
+
 void DecodePipeline::push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
                                 std::uint64_t origin) {
   if (!impl_->started) start(CaptureInfo{});
-  Record& rec = impl_->imported_record(RecordKind::kFrame, adu, t_start, t_end, origin);
-  if (rec.gap_before != kUnknownTime &&
-      rec.gap_before + impl_->options.timing_resolution < impl_->options.line.t3_5()) {
-    rec.issues.add(IssueId::kT35);
+  if (adu.size() > kMaxAdu) {
+    impl_->push_oversize_frame(adu, t_start, t_end, origin);
+    return;
   }
+  Record& rec = impl_->imported_record(RecordKind::kFrame, adu, t_start, t_end, origin);
+  impl_->flag_t35(rec);
   classify_frame(rec);
-  if (adu.size() > kMaxAdu) rec.issues.add(IssueId::kTooLong);
   impl_->tracker.on_record(rec);
+}
+
+// A frame record longer than RTU allows cannot be kept as one record, and is rarely one
+// frame: other tools glue frames that came close together, or keep bytes that form none.
+// Unless its CRC holds over all of it (then it is one frame: push_too_long_frame), its
+// bytes go through a framer of their own, as one chunk ending at `t_end`, so glued frames
+// come out as frames and the rest as noise; every byte lands in exactly one record. The
+// timestamps show no silence inside the record, so the records after its first have no
+// known gap.
+void DecodePipeline::Impl::push_oversize_frame(std::span<const std::uint8_t> bytes, Nanos t_start,
+                                               Nanos t_end, std::uint64_t origin) {
+  if (crc16_valid(bytes)) {
+    push_too_long_frame(bytes, t_start, t_end, origin);
+    return;
+  }
+  SplitRelay relay(*this);
+  // A framer holds a window of a few kB: made only for the rare oversize record.
+  auto framer_of_record = std::make_unique<Framer>(
+      FramerConfig{options.line, std::max<Nanos>(options.timing_resolution, 0), false}, relay);
+  Chunk chunk;
+  chunk.t_end = t_end;
+  chunk.bytes = bytes;
+  chunk.origin = origin;
+  framer_of_record->push(chunk);
+  framer_of_record->finish();
+}
+
+void DecodePipeline::Impl::SplitRelay::on_record(Record& rec) {
+  rec.seq = impl.import_seq++;
+  if (first) {
+    first = false;
+    if (impl.last_import_end != kUnknownTime) {
+      rec.gap_before = std::max<Nanos>(0, rec.t_start - impl.last_import_end);
+    }
+    if (rec.kind == RecordKind::kFrame) impl.flag_t35(rec);
+  }
+  impl.last_import_end = rec.t_end;
+  impl.tracker.on_record(rec);
+}
+
+// The CRC holds over all the bytes: one frame, only longer than the 256 bytes RTU allows
+// (a device or gateway breaking the limit). What a user should see is that frame, flagged
+// too_long, not noise and not a CRC error. A record holds 256 bytes, so the frame record
+// keeps the first 256 and the rest follows as noise. crc_ok stays false: the record does
+// not hold the CRC, and nothing may decode its cut PDU as if it were whole.
+void DecodePipeline::Impl::push_too_long_frame(std::span<const std::uint8_t> bytes, Nanos t_start,
+                                               Nanos t_end, std::uint64_t origin) {
+  const auto tail = bytes.subspan(kMaxAdu);
+  const Nanos tail_time = static_cast<Nanos>(tail.size()) * options.line.char_time();
+  const Nanos split = std::clamp(t_end - tail_time, t_start, t_end);
+  Record& rec = imported_record(RecordKind::kFrame, bytes.first(kMaxAdu), t_start, split, origin);
+  flag_t35(rec);
+  classify_frame(rec);
+  rec.issues.remove(IssueId::kCrc);
+  rec.issues.add(IssueId::kTooLong);
+  tracker.on_record(rec);
+  push_noise_records(tail, split, t_end, origin);
 }
 
 void DecodePipeline::push_noise(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
                                 std::uint64_t origin) {
   if (!impl_->started) start(CaptureInfo{});
+  impl_->push_noise_records(bytes, t_start, t_end, origin);
+}
+
+void DecodePipeline::Impl::push_noise_records(std::span<const std::uint8_t> bytes, Nanos t_start,
+                                              Nanos t_end, std::uint64_t origin) {
   // Longer spans than a record holds become several records, so no byte is lost.
   while (!bytes.empty()) {
-    Record& rec = impl_->imported_record(RecordKind::kNoise, bytes, t_start, t_end, origin);
+    Record& rec = imported_record(RecordKind::kNoise, bytes, t_start, t_end, origin);
     rec.issues.add(IssueId::kNoiseBytes);
-    impl_->tracker.on_record(rec);
+    tracker.on_record(rec);
     bytes = bytes.subspan(rec.size);
   }
 }

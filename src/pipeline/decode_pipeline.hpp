@@ -35,6 +35,9 @@ class DecodePipeline {
   void push(const Chunk& chunk);
   // A frame whose boundaries are already known (e.g. imported from a pcap with
   // LINKTYPE_WIRESHARK_UPPER_PDU): bypasses the framer, still CRC-checked and paired.
+  // Longer than kMaxAdu, it is split, never cut: a CRC-valid one becomes a `too_long`
+  // frame of its first kMaxAdu bytes plus noise, any other goes through a framer of its
+  // own (glued frames become frames, the rest noise).
   void push_frame(std::span<const std::uint8_t> adu, Nanos t_start, Nanos t_end,
                   std::uint64_t origin);
   // Bytes already known to form no frame (imported noise records): a noise record, as

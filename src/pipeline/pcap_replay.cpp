@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "capture/capture_warnings.hpp"
 #include "capture/input_error.hpp"
 #include "capture/pcap_import.hpp"
 #include "framing/timing_estimator.hpp"
@@ -17,6 +18,7 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
   std::optional<LineSettings> declared;
   std::optional<Nanos> declared_resolution;
   std::optional<Nanos> declared_timeout;
+  std::string cut_warning;
   {
     PcapImporter first(path);
     PcapItem item;
@@ -34,11 +36,17 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
     declared = first.declared_settings();
     declared_resolution = first.declared_resolution();
     declared_timeout = first.declared_timeout();
+    cut_warning = cut_records_warning(path, first.cut_records());
   }
   const bool use_raw = raw_chunks > 0;
 
   CaptureInfo info;
   info.source = path;
+  if (!cut_warning.empty()) {
+    // Not silent: what the file lacks shows as damaged frames, and the user must know why.
+    if (options.show_warnings) print_warning_to_stderr(cut_warning);
+    info.warnings.push_back(cut_warning);
+  }
   if (declared) info.line = *declared;
   if (options.overrides.baud) info.line.baud = *options.overrides.baud;
   if (options.overrides.parity) info.line.parity = *options.overrides.parity;

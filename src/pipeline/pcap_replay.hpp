@@ -4,7 +4,8 @@
 // writes them. Raw chunks are the fuller evidence (silences, line errors), so when a file
 // has any, they are re-framed and its frame records are left aside; otherwise the frame
 // records are decoded as they are: CRC-checked, classified and paired again, each frame's
-// end estimated as its start plus its length in character times.
+// end estimated as its start plus its length in character times. A frame record longer
+// than 256 bytes is split into frames and noise (see DecodePipeline::push_frame).
 #include <string>
 
 #include "framing/capture_info.hpp"

@@ -1,4 +1,5 @@
-// LineCheck: the line settings a capture is decoded with, checked against its byte timing.
+// LineCheck: the line settings a capture is decoded with, checked against its byte timing;
+// and the warning for settings nothing declared.
 #include "framing/line_check.hpp"
 
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "bus_builder.hpp"
+#include "pipeline/line_warnings.hpp"
 
 namespace rtu {
 namespace {
@@ -163,6 +165,40 @@ TEST(LineCheck, StandardBaudRatesAreRecognisedWithinThreePercent) {
   EXPECT_EQ(nearest_standard_baud(57000.0), 57600U);
   EXPECT_EQ(nearest_standard_baud(12800.0), std::nullopt);
   EXPECT_EQ(nearest_standard_baud(126720.0), std::nullopt);  // 115200 at 11 bits for 10
+}
+
+TEST(AssumedSettings, NothingGivenNamesTheModbusDefault) {
+  EXPECT_EQ(assumed_settings_warning(LineSettings{}, false, LineOverrides{}),
+            "no line settings in the capture or on the command line: assumed 9600 8E1 (Modbus "
+            "default); use --baud/--parity/--stop");
+}
+
+TEST(AssumedSettings, DeclaredOrAllGivenSaysNothing) {
+  EXPECT_EQ(assumed_settings_warning(LineSettings{}, true, LineOverrides{}), std::nullopt);
+  LineOverrides all;
+  all.baud = 19200;
+  all.parity = Parity::kNone;
+  all.stop_bits = 2;
+  EXPECT_EQ(assumed_settings_warning(at(19200, Parity::kNone), false, all), std::nullopt);
+}
+
+TEST(AssumedSettings, OnlyTheBaudGivenNamesParityAndStopBits) {
+  LineOverrides baud_only;
+  baud_only.baud = 19200;
+  EXPECT_EQ(assumed_settings_warning(at(19200), false, baud_only),
+            "no parity or stop bits in the capture or on the command line: assumed parity E and "
+            "1 stop bit (Modbus default), so the line is 19200 8E1; use --parity/--stop");
+}
+
+TEST(AddLineWarnings, AssumedSettingsComeBeforeTheTimingCheck) {
+  const auto bus = polling(at(19200), 15);
+  const LineCheck check = fed(bus.per_byte());
+  CaptureInfo info;
+  info.source = "capture.csv";
+  add_line_warnings(info, false, LineOverrides{}, check, kMicro, false);
+  ASSERT_EQ(info.warnings.size(), 2U);
+  EXPECT_EQ(info.warnings[0].rfind("no line settings", 0), 0U);
+  EXPECT_NE(info.warnings[1].find("--baud 19200"), std::string::npos);
 }
 
 }  // namespace

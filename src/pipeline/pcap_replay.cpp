@@ -6,6 +6,7 @@
 #include "capture/input_error.hpp"
 #include "capture/pcap_import.hpp"
 #include "framing/timing_estimator.hpp"
+#include "pipeline/line_warnings.hpp"
 
 namespace rtu {
 
@@ -13,6 +14,7 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
                                 RecordSink& sink) {
   // Pass 1: what the file holds, its timing resolution and declared line settings.
   TimingEstimator estimator;
+  LineCheck line_check;
   std::uint64_t raw_chunks = 0;
   Nanos precision = 0;
   std::optional<LineSettings> declared;
@@ -28,6 +30,7 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
         if (item.kind == PcapItem::Kind::kChunk) {
           ++raw_chunks;
           estimator.add(item.chunk);
+          line_check.add(item.chunk);
         }
       }
     } catch (const InputError&) {
@@ -67,6 +70,8 @@ CaptureInfo replay_pcap_capture(const std::string& path, const ReplayOptions& op
   // A live recording says which response timeout decided its timeouts; unless the user
   // asks for another, replay uses the same.
   if (declared_timeout && !options.response_timeout_set) info.response_timeout = *declared_timeout;
+  add_line_warnings(info, declared.has_value(), options.overrides, line_check, precision,
+                    options.show_warnings);
 
   // Pass 2: decode.
   PipelineOptions pipeline_options;

@@ -3,6 +3,7 @@
 #include "capture/input_error.hpp"
 #include "capture/open_capture.hpp"
 #include "framing/timing_estimator.hpp"
+#include "pipeline/line_warnings.hpp"
 #include "pipeline/pcap_replay.hpp"
 
 namespace rtu {
@@ -14,11 +15,15 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   }
   // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
   TimingEstimator estimator;
+  LineCheck line_check;
   auto first =
       options.show_warnings ? open_capture(path) : open_capture(path, [](std::string_view) {});
   Chunk chunk;
   try {
-    while (first->next(chunk)) estimator.add(chunk);
+    while (first->next(chunk)) {
+      estimator.add(chunk);
+      line_check.add(chunk);
+    }
   } catch (const InputError&) {
     // Damaged input: learn from what precedes the damage; pass 2 decodes up to it and
     // then reports the error.
@@ -35,6 +40,8 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   info.timing_resolution =
       options.resolution ? *options.resolution : estimator.resolution(first->timestamp_precision());
   info.response_timeout = options.response_timeout;
+  add_line_warnings(info, first->declared_settings().has_value(), options.overrides, line_check,
+                    first->timestamp_precision(), options.show_warnings);
   first.reset();
 
   // Pass 2: decode.

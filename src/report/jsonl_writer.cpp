@@ -58,6 +58,11 @@ void JsonlWriter::on_capture(const CaptureInfo& info) {
   json.field("per_byte_timing", info.per_byte_timing);
   write_millis_key(json, "response_timeout_ms", info.response_timeout);
   json.field("note", std::string_view(timing_note(info)));
+  // Always present, empty when there is nothing to doubt: readers need not test for the key.
+  json.key("warnings");
+  json.begin_array();
+  for (const std::string& w : info.warnings) json.value(std::string_view(w));
+  json.end_array();
   json.end_object();
   buffer_.push_back('\n');
   out_.write(buffer_);

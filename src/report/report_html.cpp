@@ -145,7 +145,14 @@ void summary(Out& o, const TrafficStats& stats) {
   for (unsigned a = 1; a < 256; ++a) {
     if (stats.slave(static_cast<std::uint8_t>(a)) != nullptr) ++slaves;
   }
-  put(o, "<section id=\"summary\"><h2>Summary</h2><div class=\"cards\">");
+  put(o, "<section id=\"summary\"><h2>Summary</h2>");
+  // Doubts about the capture itself come first: they may change how everything below reads.
+  for (const std::string& w : info.warnings) {
+    put(o, "<div class=\"finding warning capture-warning\"><span class=\"sev\">warning</span>");
+    text(o, w);
+    put(o, "</div>");
+  }
+  put(o, "<div class=\"cards\">");
   card(o, "total-duration", "duration (s)", fmt::format("{:.3f}", to_seconds(t.duration())));
   card(o, "total-frames", "frames", fmt::format("{}", t.frames));
   card(o, "total-slaves", "slaves", fmt::format("{}", slaves));

@@ -60,6 +60,10 @@ void write_capture(JsonWriter& j, const CaptureInfo& info) {
   write_ms(j, info.response_timeout);
   const std::string note = timing_note(info);
   j.field("timing_note", std::string_view(note));
+  j.key("warnings");
+  j.begin_array();
+  for (const std::string& w : info.warnings) j.value(std::string_view(w));
+  j.end_array();
   j.end_object();
 }
 

@@ -45,6 +45,7 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   const Totals& t = stats.totals();
   line(o, "rtuscope report: {}", info.source);
   line(o, "line {}, {}", info.line.describe(), timing_note(info));
+  for (const std::string& w : info.warnings) line(o, "warning: {}", w);
   line(o, "");
   line(o, "TOTALS");
   line(o, "  duration          {:.3f} s", to_seconds(t.duration()));

@@ -54,6 +54,7 @@ void TextWriter::on_capture(const CaptureInfo& info) {
                  info.line.describe(), to_millis(info.line.char_time()),
                  to_millis(info.line.t1_5()), to_millis(info.line.t3_5()));
   fmt::format_to(it, "# timing: {}\n", timing_note(info));
+  for (const std::string& w : info.warnings) fmt::format_to(it, "# warning: {}\n", w);
   fmt::format_to(it, "# {:>18} {:>11}  {:<4} {:>5}  {:<16} {}\n", "time [s]", "gap", "role",
                  "slave", "function", "summary   latency   [issues]");
   out_.write(buffer_);

@@ -3,9 +3,10 @@
 
   check_sim.py RTUSIM WORKDIR CHECK [RTUSCOPE [SOURCE_DIR]]
 
-CHECK is one of: determinism, truth, chunking, faults, scorer (rtusim and the scorer alone);
-decode_clean (RTUSCOPE decodes a fresh clean per-byte capture perfectly); decode_bytes (every
-byte accounted for under heavy faults); captures (each
+CHECK is one of: determinism, truth, chunking, faults, scorer, heavy (rtusim, the scorer and
+the miss classifier alone); decode_clean (RTUSCOPE decodes a fresh clean per-byte capture
+perfectly); decode_bytes (every byte accounted for under heavy faults); decode_heavy
+(rtuscope and the reference decoder on the heavy profile); captures (each
 simulated capture in SOURCE_DIR/captures is reproduced by its provenance command and decoded
 accurately).
 """
@@ -16,6 +17,8 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "accuracy"))
+import misses  # noqa: E402
+import ref_decoder  # noqa: E402
 import score  # noqa: E402
 
 
@@ -275,6 +278,168 @@ def check_scorer(sim):
     expect(s["paired"] < s["pairs"] and s["false_pairs"] >= 1, "wrong txn not counted")
 
 
+def gaps_ns(path):
+    """Truth records with exact integer t/t_end in ns, and the silence before each."""
+    _, recs = read_truth(path)
+    times = raw_truth_times(path)
+    out = []
+    prev_end = None
+    for r, (t0, t1) in zip(recs, times):
+        r = dict(r, t0=t0, t1=t1, before=None if prev_end is None else t0 - prev_end)
+        prev_end = t1
+        out.append(r)
+    return out
+
+
+def check_heavy(sim):
+    """The heavy profile: deterministic, exact truth, every sick-bus fault really on the
+    wire with the timing it promises, about 10% of transactions hit by default; and the miss
+    classifier (tools/accuracy/misses.py) names synthetic misses right."""
+    args = ["--profile", "heavy", "--seed", "17", "--transactions", "300", "--chunking", "usb",
+            "--packet", "4", "--latency-ms", "1"]
+    a = sim.run("heavy_det_a", *args)
+    b = sim.run("heavy_det_b", *args)
+    for k in a:
+        da = open(a[k], "rb").read().replace(b"heavy_det_a", b"heavy_det_x")
+        db = open(b[k], "rb").read().replace(b"heavy_det_b", b"heavy_det_x")
+        expect(da == db, f"heavy profile: same seed gave different {k} files")
+
+    common = ["--profile", "heavy", "--seed", "5", "--transactions", "600", "--faults", "1",
+              "--baud", "115200"]
+    per = sim.run("heavy_all", *common)
+    usb = sim.run("heavy_all_usb", *common, "--chunking", "usb", "--packet", "4",
+                  "--latency-ms", "1")
+    _, pchunks = read_hex(per["hex"])
+    _, uchunks = read_hex(usb["hex"])
+    stream = b"".join(c for _, c in pchunks)
+    expect(stream == b"".join(c for _, c in uchunks), "heavy: USB and per-byte bytes differ")
+    expect(open(per["truth"]).read().split("\n", 1)[1] == open(usb["truth"]).read().split("\n", 1)[1],
+           "heavy: chunking changed the truth")
+    prev = None
+    for t, c in uchunks:
+        expect(prev is None or t > prev, "heavy USB: timestamps go backwards")
+        prev = t
+    recs = gaps_ns(per["truth"])
+    expect(b"".join(bytes.fromhex(r["hex"]) for r in recs) == stream, "heavy: truth != capture")
+    t3_5 = 1_750_000  # ns, fixed above 19200 baud
+    seen = set()
+    present = {1, 2, 3, 4, 17}
+    for i, r in enumerate(recs):
+        data = bytes.fromhex(r["hex"])
+        expect(r["before"] is None or r["before"] >= 0, f"heavy: records overlap at {r['t']}")
+        nxt = recs[i + 1] if i + 1 < len(recs) else None
+        if r["kind"] == "noise":
+            seen.add("noise:" + r["cause"])
+            if r["cause"] == "glitch":
+                expect(len(data) == 1, "a glitch is one byte")
+                expect(50_000 <= r["before"] <= 150_000, f"glitch {r['before']} ns after its frame")
+            if r["cause"] == "burst" and nxt and nxt["kind"] == "frame" and nxt["before"] < t3_5:
+                seen.add("burst touching the next frame")
+            if r["cause"] == "burst" and i > 0 and recs[i - 1]["kind"] == "frame" \
+                    and r["before"] < t3_5:
+                seen.add("burst touching the previous frame")
+            continue
+        faults = set(r["faults"])
+        seen |= faults
+        if "truncated" in faults:
+            expect(0 < len(data) < r["intended_size"], f"truncated frame {r['hex']}")
+            seen.add("truncated " + r["role"])
+        elif "crc" in faults:
+            expect(len(data) >= 4 and crc16(data) != 0, f"crc fault with a valid CRC: {r['hex']}")
+            expect(r["flipped"] and all(0 <= k < len(data) for k in r["flipped"]), "flipped")
+            seen |= {f"flip at {k}" for k in r["flipped"] if k < 2}
+        else:
+            expect(crc16(data) == 0, f"intact frame with a bad CRC: {r['hex']}")
+        if r["device"] == "absent":
+            expect(data[0] not in present and "timeout" in faults, f"absent slave {r['hex']}")
+            seen.add("absent slave")
+        prev_rec = recs[i - 1] if i > 0 else None
+        if (r["role"] == "response" and prev_rec and prev_rec["kind"] == "frame"
+                and prev_rec["txn"] == r["txn"] and 100_000 <= r["before"] < 700_000):
+            seen.add("early response")  # 0.1-0.7 ms: before t1.5 (0.75 ms)
+    for key in ("crc", "truncated request", "truncated response", "flip at 0", "flip at 1",
+                "t1.5", "t3.5", "timeout", "wrong_slave", "exception", "broadcast",
+                "absent slave", "early response", "noise:burst", "noise:turnaround",
+                "noise:glitch", "burst touching the next frame",
+                "burst touching the previous frame"):
+        expect(key in seen, f"heavy --faults 1: never saw {key}")
+
+    # The default rate: about one transaction in ten shows a fault or touches noise.
+    p = sim.run("heavy_rate", "--profile", "heavy", "--seed", "3", "--transactions", "2000")
+    _, recs = read_truth(p["truth"])
+    txns, hit = set(), set()
+    for i, r in enumerate(recs):
+        if r["kind"] == "frame":
+            txns.add(r["txn"])
+            if r["faults"]:
+                hit.add(r["txn"])
+        else:
+            hit |= {recs[j]["txn"] for j in (i - 1, i + 1)
+                    if 0 <= j < len(recs) and recs[j]["kind"] == "frame"}
+    share = len(hit) / len(txns)
+    expect(0.07 <= share <= 0.16, f"heavy default: {share:.3f} of transactions faulty")
+    r = subprocess.run([sim.exe, "--profile", "heavy", "--fault-kinds", "crc", "--out",
+                        os.path.join(sim.work, "x.hex")], capture_output=True, text=True)
+    expect(r.returncode == 2 and "crc" in r.stderr, "heavy accepted the classic kind crc")
+
+    # The classifier, on misses made by hand from the truth.
+    truth = score.load(per["truth"])
+
+    def classes(records):
+        out, pos = [], 0
+        for x in records:
+            x = dict(x, _pos=pos)
+            pos += len(x["_hex"]) // 2
+            out.append(x)
+        s = score.score(truth, out)
+        return [misses.classify(f, truth, out)[0] for f in s["_misses"]]
+
+    def index(pred):
+        return next(i for i in range(1, len(truth) - 1) if pred(truth[i - 1], truth[i],
+                                                                 truth[i + 1]))
+
+    intact = lambda r: r["kind"] == "frame" and not r["faults"]  # noqa: E731
+    g = index(lambda p, r, n: intact(r) and n["kind"] == "noise" and n["cause"] == "glitch")
+    glued = dict(truth[g], _hex=truth[g]["_hex"] + truth[g + 1]["_hex"])
+    expect(classes(truth[:g] + [glued] + truth[g + 2:]) == ["glitch absorbed"], "glitch absorbed")
+    n = index(lambda p, r, n: r["kind"] == "noise" and r["cause"] == "burst" and intact(n))
+    merged = dict(truth[n], _hex=truth[n]["_hex"] + truth[n + 1]["_hex"])
+    expect(classes(truth[:n] + [merged] + truth[n + 2:]) == ["noise absorbed"], "noise absorbed")
+    f = index(lambda p, r, n: intact(r))
+    expect(classes(truth[:f] + [dict(truth[f], kind="noise")] + truth[f + 1:]) == ["as noise"],
+           "as noise")
+
+
+def check_decode_heavy(sim, rtuscope):
+    """The heavy profile decodes with every byte accounted for, by rtuscope and by the
+    reference decoder (tools/accuracy/ref_decoder.py), per byte and through a small-packet
+    USB adapter; both stay above a loose floor, and every miss gets a class."""
+    for chunking, extra in (("perbyte", []), ("usb", ["--packet", "8", "--latency-ms", "2"])):
+        for baud, seed in (("9600", "23"), ("115200", "29")):
+            name = f"heavy_decode_{chunking}_{baud}"
+            # Three times the default rate: more misses for the classifier to sort.
+            p = sim.run(name, "--profile", "heavy", "--seed", seed, "--transactions", "600",
+                        "--faults", "0.3", "--baud", baud, "--chunking", chunking, *extra)
+            decoded = os.path.join(sim.work, name + ".decoded.jsonl")
+            with open(decoded, "w") as out:
+                subprocess.run([rtuscope, "decode", p["hex"], "--format", "jsonl"], stdout=out,
+                               check=True)
+            reference = os.path.join(sim.work, name + ".ref.jsonl")
+            with open(reference, "w") as out:
+                for r in ref_decoder.decode(*ref_decoder.read_capture(p["hex"])):
+                    out.write(json.dumps({k: v for k, v in r.items() if not k.startswith("_")})
+                              + "\n")
+            for who, path in (("rtuscope", decoded), ("reference", reference)):
+                s, missed = misses.analyse(p["truth"], path)
+                recall = score.ratio(s["found"], s["truth_frames"])
+                precision = score.ratio(s["true_frames"], s["decoded_frames"])
+                print(f"{name} {who}: recall {recall:.4f} precision {precision:.4f} misses "
+                      f"{sorted(m[0] for m in missed)}")
+                expect(s["bytes_ok"] == 1, f"{name} {who}: bytes not accounted for")
+                expect(recall >= 0.97 and precision >= 0.97, f"{name} {who}: below 97%")
+                expect(all(m[0] in misses.CLASSES for m in missed), "unknown miss class")
+
+
 def check_decode_clean(sim, rtuscope):
     """A clean capture decodes perfectly, from the per-byte hex file and from the same bytes
     as a Saleae data-table export."""
@@ -356,11 +521,13 @@ def main():
         check_decode_clean(sim, sys.argv[4])
     elif check == "decode_bytes":
         check_decode_bytes(sim, sys.argv[4])
+    elif check == "decode_heavy":
+        check_decode_heavy(sim, sys.argv[4])
     elif check == "captures":
         check_captures(sim, sys.argv[4], sys.argv[5])
     else:
         {"determinism": check_determinism, "truth": check_truth, "chunking": check_chunking,
-         "faults": check_faults, "scorer": check_scorer}[check](sim)
+         "faults": check_faults, "scorer": check_scorer, "heavy": check_heavy}[check](sim)
     print(f"{check}: ok")
 
 

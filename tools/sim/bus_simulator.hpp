@@ -25,6 +25,9 @@ struct BusOptions {
   Nanos master_timeout = 200 * kNanosPerMilli;  // the master's wait for an answer
   double fault_rate = 0;
   std::vector<Fault> fault_kinds;
+  // kHeavy: one or two faults per faulty transaction, drawn from the heavy kinds (see
+  // fault_injector.hpp). kClassic keeps the captures the classic options always gave.
+  FaultProfile profile = FaultProfile::kClassic;
 };
 
 // Runs the whole capture. `devices` are polled in order, each at its own address.

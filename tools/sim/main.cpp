@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
   std::string parity = "E";
   unsigned stop = 1;
   double fault_rate = 0;
+  std::string profile = "classic";
   std::string fault_kinds;
   std::string devices_arg;
   double latency_ms = 16;
@@ -94,11 +96,22 @@ int main(int argc, char** argv) {
   app.add_option("--baud", baud, "line speed")->check(CLI::Range(300U, 4'000'000U));
   app.add_option("--parity", parity, "N, E or O")->check(CLI::IsMember({"N", "E", "O"}));
   app.add_option("--stop", stop, "stop bits, 1 or 2")->check(CLI::IsMember({1U, 2U}));
-  app.add_option("--faults", fault_rate, "share of transactions that get one fault (0 = clean)")
-      ->check(CLI::Range(0.0, 1.0));
+  auto* faults_option =
+      app.add_option("--faults", fault_rate,
+                     "share of transactions that get a fault (0 = clean; default 0, or 0.1 "
+                     "with --profile heavy)")
+          ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--profile", profile,
+                 "classic: one fault per faulty transaction; heavy: a sick bus, one or two "
+                 "faults per faulty transaction, damage in any byte, noise touching frames, "
+                 "glitch bytes, early responses, absent slaves")
+      ->check(CLI::IsMember({"classic", "heavy"}));
   app.add_option("--fault-kinds", fault_kinds,
                  "comma-separated subset of crc,noise,turnaround,truncated,timeout,exception,"
-                 "pause,short_gap,broadcast,wrong_slave (default: all)");
+                 "pause,short_gap,broadcast,wrong_slave (default: all); with --profile heavy "
+                 "a subset of turnaround,truncated,timeout,exception,pause,short_gap,"
+                 "broadcast,wrong_slave,bitflip,noise_before,noise_after,noise_gap,glitch,"
+                 "fast_response,dead_slave (default: all)");
   app.add_option("--devices", devices_arg,
                  "comma-separated subset of yw2050,yw2300,th900,yakotec,generic (default: all)");
   app.add_option("--latency-ms", latency_ms, "USB adapter latency timer")
@@ -138,13 +151,21 @@ int main(int argc, char** argv) {
     opt.start = seconds_to_nanos(start_s);
     opt.cycle_period = seconds_to_nanos(cycle_ms / 1e3);
     opt.master_timeout = seconds_to_nanos(master_timeout_ms / 1e3);
+    const bool heavy = profile == "heavy";
+    opt.profile = heavy ? FaultProfile::kHeavy : FaultProfile::kClassic;
     opt.fault_rate = fault_rate;
+    if (heavy && faults_option->count() == 0) opt.fault_rate = 0.1;
     if (fault_kinds.empty()) {
-      opt.fault_kinds = all_faults();
+      opt.fault_kinds = heavy ? heavy_faults() : all_faults();
     } else {
+      const auto& allowed = heavy ? heavy_faults() : all_faults();
       for (const auto& name : split_list(fault_kinds)) {
         const auto f = parse_fault(name);
         if (!f) throw std::runtime_error(fmt::format("--fault-kinds: unknown fault '{}'", name));
+        if (std::find(allowed.begin(), allowed.end(), *f) == allowed.end()) {
+          throw std::runtime_error(
+              fmt::format("--fault-kinds: '{}' is not a fault of --profile {}", name, profile));
+        }
         opt.fault_kinds.push_back(*f);
       }
     }

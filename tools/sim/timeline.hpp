@@ -28,7 +28,12 @@ struct TruthRecord {
   std::optional<std::uint64_t> txn;      // shared by a request and its response
   std::vector<std::string_view> faults;  // injected faults, as issue-catalogue keys
   std::string_view device;               // profile that sent or was asked
-  // Noise only: "burst" (idle-time interference) or "turnaround" (driver switching).
+  // Heavy profile only (classic truth files keep their format): the indices of the bytes a
+  // bit flip changed, and the size a truncated frame was meant to have.
+  std::vector<std::size_t> flipped;
+  std::size_t intended_size = 0;
+  // Noise only: "burst" (interference), "turnaround" (driver switching, 0x00/0xFF bytes)
+  // or "glitch" (one byte right after a frame, heavy profile).
   std::string_view cause;
 };
 

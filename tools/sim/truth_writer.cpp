@@ -71,6 +71,15 @@ void write_truth(std::ostream& out, const LineSettings& line, std::string_view c
         put("\"{}\"", r.faults[i]);
       }
       buf.push_back(']');
+      if (!r.flipped.empty()) {
+        put(",\"flipped\":[");
+        for (std::size_t i = 0; i < r.flipped.size(); ++i) {
+          if (i > 0) buf.push_back(',');
+          put("{}", r.flipped[i]);
+        }
+        buf.push_back(']');
+      }
+      if (r.intended_size > 0) put(",\"intended_size\":{}", r.intended_size);
     } else {
       put(",\"cause\":\"{}\"", r.cause);
     }

@@ -21,6 +21,10 @@
 //   and broadcast. A truncated frame is a frame record holding exactly the bytes that got
 //   onto the wire (1 to size-1 bytes of the intended frame, CRC thus missing) with the
 //   fault "truncated"; t1.5 and t3.5 are set from the wire timing, whatever caused them.
+// - heavy profile only: "flipped" lists the indices of the bytes a bit flip changed (fault
+//   crc; any byte, address and function code included) and "intended_size" the size a
+//   truncated frame was meant to have; noise has the cause "burst", "turnaround" or
+//   "glitch" (a lone byte 50-150 us after a frame).
 #include <ostream>
 #include <span>
 #include <string_view>

@@ -239,10 +239,15 @@ TEST(ImportBytesKept, RecordsCutBySnapLengthAreReported) {
   options.show_warnings = false;
   const CaptureInfo info = replay_capture(path, options, sink);
   expect_every_byte_once(sink.records, joined({kRequest, kResponse, kResponse}));
-  ASSERT_EQ(info.warnings.size(), 1U);
-  EXPECT_NE(info.warnings[0].find("record cut to 23 of its 43 bytes"), std::string::npos)
-      << info.warnings[0];
-  EXPECT_NE(info.warnings[0].find("(2 records cut)"), std::string::npos) << info.warnings[0];
+  // The file declares no line settings either: that is the other warning.
+  std::vector<std::string> cut_warnings;
+  for (const auto& w : info.warnings) {
+    if (w.find("record cut") != std::string::npos) cut_warnings.push_back(w);
+  }
+  ASSERT_EQ(cut_warnings.size(), 1U);
+  EXPECT_NE(cut_warnings[0].find("record cut to 23 of its 43 bytes"), std::string::npos)
+      << cut_warnings[0];
+  EXPECT_NE(cut_warnings[0].find("(2 records cut)"), std::string::npos) << cut_warnings[0];
 
   const auto whole = (dir.path() / "whole.pcapng").string();
   {
@@ -250,7 +255,9 @@ TEST(ImportBytesKept, RecordsCutBySnapLengthAreReported) {
     const auto raw = w.add_interface({pcap::kLinkTypeRtacSerial, "", "", 9, 0});
     w.write_packet(raw, kStart, record);
   }
-  EXPECT_TRUE(replay_capture(whole, options, sink).warnings.empty());
+  for (const auto& w : replay_capture(whole, options, sink).warnings) {
+    EXPECT_EQ(w.find("record cut"), std::string::npos) << w;
+  }
 }
 
 // Decodes `input` and exports the records to `out_name`; returns the export's path.

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Rewrites captures/real/sigrok_*.csv from the original sigrok example dumps, with the exact
+# Rewrites captures/sigrok_*.csv from the original sigrok example dumps, with the exact
 # settings recorded in captures/README.md ("Real captures"). Run from the top of the source
 # tree with the path of a sigrok-dumps checkout (the public sigrok capture repository):
 #
@@ -11,7 +11,7 @@ set -eu
 
 dumps=${1:?usage: import_sigrok_dumps.sh PATH/TO/sigrok-dumps}
 conv=tools/import/sigrok_uart_capture.py
-out=captures/real
+out=captures
 mkdir -p "$out"
 
 # RS-485 slave board: one probe on the bus wire itself (both directions, undriven gaps).

@@ -40,7 +40,7 @@ Needs sigrok-cli on PATH (Debian package sigrok-cli; made with 0.7.2 / libsigrok
 
 Example:
   tools/import/sigrok_uart_capture.py wizmodbus.sr --channel BA+ --baud 9600 --parity N \\
-      --stop 1 --format csv -o captures/real/sigrok_wizmodbus_bus.csv
+      --stop 1 --format csv -o captures/sigrok_wizmodbus_bus.csv
 """
 import argparse
 import re

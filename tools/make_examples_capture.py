@@ -21,6 +21,10 @@ import os
 import random
 import sys
 
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "pylib"))
+from modbus_crc import with_crc  # noqa: E402
+
 BAUD = 9600
 CHAR_NS = 11 * 1_000_000_000 // BAUD  # 1 145 833 ns: start + 8 data + parity + stop
 GAP_BETWEEN_TRANSACTIONS_NS = 50_000_000
@@ -86,28 +90,17 @@ DEVICES = [
 BAD_CRC_REQUESTS = {"01 03 00 20 00 01 85 C1"}
 
 
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
-
-
 def frame(text, address, bad_crc_allowed=False):
     """Bytes of a documented frame, CRC checked, moved to `address` with its CRC redone."""
     data = bytes.fromhex(text)
-    crc_ok = crc16(data[:-2]) == data[-2] | (data[-1] << 8)
+    crc_ok = with_crc(data[:-2]) == data
     if not crc_ok and not bad_crc_allowed:
         sys.exit(f"CRC of documented frame {text} does not check")
     if data[0] == address:
         return data
     if not crc_ok:
         sys.exit(f"cannot move the bad-CRC frame {text} to another address")
-    body = bytes([address]) + data[1:-2]
-    crc = crc16(body)
-    return body + bytes([crc & 0xFF, crc >> 8])
+    return with_crc(bytes([address]) + data[1:-2])
 
 
 def fmt_time(ns):

@@ -9,28 +9,24 @@ regression-* are crashes the fuzzer found and are never touched.
 
 usage: tests/fuzz/make_pdu_seeds.py [OUTPUT_DIR]   (default captures/regressions/fuzz/pdu_decode)
 """
+import os
 import pathlib
 import sys
+
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from modbus_crc import with_crc  # noqa: E402
 
 REQUEST, RESPONSE, UNKNOWN, PAIR = 0, 1, 2, 3
 
 
-def crc16(data: bytes) -> int:
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
-
-
-def with_crc(hex_text: str) -> bytes:
-    body = bytes.fromhex(hex_text)
-    crc = crc16(body)
-    return body + bytes([crc & 0xFF, crc >> 8])
+def adu(hex_text: str) -> bytes:
+    """The frame written as hex, with its CRC appended."""
+    return with_crc(bytes.fromhex(hex_text))
 
 
 def as_is(hex_text: str) -> bytes:
+    """The frame written as hex, CRC included (kept as documented, even when it is wrong)."""
     return bytes.fromhex(hex_text)
 
 
@@ -58,41 +54,41 @@ SEEDS = {
     "yakotec-bad-crc-exception": (PAIR, as_is("01 03 00 20 00 01 85 C1"), as_is("01 83 01 80 F0")),
     "yakotec-jog": (REQUEST, as_is("01 10 00 1D 00 03 06 00 3C 00 64 00 64 66 DE")),
     # V1.1b3 §6 examples, every public function code
-    "fc03-request": (REQUEST, with_crc("11 03 00 6B 00 03")),
-    "fc03-response": (RESPONSE, with_crc("11 03 06 02 2B 00 00 00 64")),
-    "fc04-pair": (PAIR, with_crc("11 04 00 08 00 01"), with_crc("11 04 02 00 0A")),
-    "fc01-pair": (PAIR, with_crc("11 01 00 13 00 13"), with_crc("11 01 03 CD 6B 05")),
-    "fc06-unknown-role": (UNKNOWN, with_crc("11 06 00 01 00 03")),
-    "fc07-request": (REQUEST, with_crc("11 07")),
-    "fc07-response": (RESPONSE, with_crc("11 07 6D")),
-    "fc08-pair": (PAIR, with_crc("11 08 00 00 A5 37"), with_crc("11 08 00 00 A5 37")),
-    "fc08-counter": (PAIR, with_crc("11 08 00 0B 00 00"), with_crc("11 08 00 0B 01 2C")),
-    "fc0b-pair": (PAIR, with_crc("11 0B"), with_crc("11 0B FF FF 01 08")),
-    "fc0c-pair": (PAIR, with_crc("11 0C"), with_crc("11 0C 08 00 00 01 08 01 21 20 00")),
-    "fc0f-pair": (PAIR, with_crc("11 0F 00 13 00 0A 02 CD 01"), with_crc("11 0F 00 13 00 0A")),
-    "fc11-pair": (PAIR, with_crc("11 11"), with_crc("11 11 03 2A FF 01")),
-    "fc14-pair": (PAIR, with_crc("11 14 0E 06 00 04 00 01 00 02 06 00 03 00 09 00 02"),
-                  with_crc("11 14 0C 05 06 0D FE 00 20 05 06 33 CD 00 40")),
-    "fc15-pair": (PAIR, with_crc("11 15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D"),
-                  with_crc("11 15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D")),
-    "fc16-pair": (PAIR, with_crc("11 16 00 04 00 F2 00 25"), with_crc("11 16 00 04 00 F2 00 25")),
-    "fc17-pair": (PAIR, with_crc("11 17 00 03 00 06 00 0E 00 03 06 00 FF 00 FF 00 FF"),
-                  with_crc("11 17 0C 00 FE 0A CD 00 01 00 03 00 0D 00 FF")),
-    "fc18-pair": (PAIR, with_crc("11 18 04 DE"), with_crc("11 18 00 06 00 02 01 B8 12 84")),
-    "fc2b-0e-pair": (PAIR, with_crc("11 2B 0E 01 00"), with_crc(
+    "fc03-request": (REQUEST, adu("11 03 00 6B 00 03")),
+    "fc03-response": (RESPONSE, adu("11 03 06 02 2B 00 00 00 64")),
+    "fc04-pair": (PAIR, adu("11 04 00 08 00 01"), adu("11 04 02 00 0A")),
+    "fc01-pair": (PAIR, adu("11 01 00 13 00 13"), adu("11 01 03 CD 6B 05")),
+    "fc06-unknown-role": (UNKNOWN, adu("11 06 00 01 00 03")),
+    "fc07-request": (REQUEST, adu("11 07")),
+    "fc07-response": (RESPONSE, adu("11 07 6D")),
+    "fc08-pair": (PAIR, adu("11 08 00 00 A5 37"), adu("11 08 00 00 A5 37")),
+    "fc08-counter": (PAIR, adu("11 08 00 0B 00 00"), adu("11 08 00 0B 01 2C")),
+    "fc0b-pair": (PAIR, adu("11 0B"), adu("11 0B FF FF 01 08")),
+    "fc0c-pair": (PAIR, adu("11 0C"), adu("11 0C 08 00 00 01 08 01 21 20 00")),
+    "fc0f-pair": (PAIR, adu("11 0F 00 13 00 0A 02 CD 01"), adu("11 0F 00 13 00 0A")),
+    "fc11-pair": (PAIR, adu("11 11"), adu("11 11 03 2A FF 01")),
+    "fc14-pair": (PAIR, adu("11 14 0E 06 00 04 00 01 00 02 06 00 03 00 09 00 02"),
+                  adu("11 14 0C 05 06 0D FE 00 20 05 06 33 CD 00 40")),
+    "fc15-pair": (PAIR, adu("11 15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D"),
+                  adu("11 15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D")),
+    "fc16-pair": (PAIR, adu("11 16 00 04 00 F2 00 25"), adu("11 16 00 04 00 F2 00 25")),
+    "fc17-pair": (PAIR, adu("11 17 00 03 00 06 00 0E 00 03 06 00 FF 00 FF 00 FF"),
+                  adu("11 17 0C 00 FE 0A CD 00 01 00 03 00 0D 00 FF")),
+    "fc18-pair": (PAIR, adu("11 18 04 DE"), adu("11 18 00 06 00 02 01 B8 12 84")),
+    "fc2b-0e-pair": (PAIR, adu("11 2B 0E 01 00"), adu(
         "11 2B 0E 01 01 00 00 03 00 04 41 43 4D 45 01 02 58 31 02 05 56 32 2E 31 31")),
-    "fc2b-0e-private-object": (RESPONSE, with_crc(
+    "fc2b-0e-private-object": (RESPONSE, adu(
         "11 2B 0E 03 83 FF 80 02 00 04 41 43 4D 45 80 02 E9 09")),
-    "fc2b-0d": (REQUEST, with_crc("11 2B 0D 01 02 03")),
+    "fc2b-0d": (REQUEST, adu("11 2B 0D 01 02 03")),
     "exception-unknown-role": (UNKNOWN, as_is("01 83 02 C0 F1")),
-    "user-function": (REQUEST, with_crc("01 41 01 02 03")),
+    "user-function": (REQUEST, adu("01 41 01 02 03")),
     # malformed on purpose
-    "truncated-fc03": (REQUEST, with_crc("11 03 00 6B")),
-    "lying-bytecount-fc03": (RESPONSE, with_crc("11 03 FA 00 01")),
-    "lying-objects-fc2b": (RESPONSE, with_crc("11 2B 0E 01 01 00 00 FF 00 FF 41")),
-    "lying-fifo-count": (RESPONSE, with_crc("11 18 FF FF 00 1F 00 01")),
+    "truncated-fc03": (REQUEST, adu("11 03 00 6B")),
+    "lying-bytecount-fc03": (RESPONSE, adu("11 03 FA 00 01")),
+    "lying-objects-fc2b": (RESPONSE, adu("11 2B 0E 01 01 00 00 FF 00 FF 41")),
+    "lying-fifo-count": (RESPONSE, adu("11 18 FF FF 00 1F 00 01")),
     "two-bytes": (RESPONSE, as_is("11 03")),
-    "broadcast-read": (REQUEST, with_crc("00 03 00 00 00 01")),
+    "broadcast-read": (REQUEST, adu("00 03 00 00 00 01")),
 }
 
 

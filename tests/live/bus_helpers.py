@@ -1,5 +1,5 @@
-"""What the live tests share: failing with a message, Modbus CRC, virtual-bus endpoints,
-stopping the processes a test started."""
+"""What the live tests share: failing with a message, virtual-bus endpoints, stopping the
+processes a test started. The Modbus CRC is tools/pylib/modbus_crc.py."""
 import os
 import signal
 import subprocess
@@ -10,16 +10,6 @@ import tty
 def fail(message):
     print(f"FAIL: {message}", file=sys.stderr)
     sys.exit(1)
-
-
-def crc16(data):
-    """The ADU for `data`: the bytes with their Modbus CRC appended (low byte first)."""
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return bytes(data) + bytes([crc & 0xFF, crc >> 8])
 
 
 def open_endpoint(path):

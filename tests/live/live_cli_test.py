@@ -16,9 +16,14 @@ import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
 
-from bus_helpers import crc16, fail, open_endpoint, stop_all
+from bus_helpers import fail, open_endpoint, stop_all
+
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from modbus_crc import with_crc  # noqa: E402
 
 BAUD = 19200
 
@@ -91,7 +96,7 @@ def kill9(args):
         end = time.monotonic() + 3.0
         i = 0
         while time.monotonic() < end:
-            os.write(fd, crc16([0, 6, 0, 1, (i >> 8) & 0xFF, i & 0xFF]))  # broadcasts
+            os.write(fd, with_crc([0, 6, 0, 1, (i >> 8) & 0xFF, i & 0xFF]))  # broadcasts
             i += 1
             time.sleep(0.05)
         live.send_signal(signal.SIGKILL)
@@ -133,9 +138,9 @@ def two_ports(args):
         wait_listening(live)
         fa, fb = open_endpoint(master), open_endpoint(slave)
         for i in range(pairs):
-            os.write(fa, crc16([5, 3, 0, i, 0, 1]))
+            os.write(fa, with_crc([5, 3, 0, i, 0, 1]))
             time.sleep(0.012)  # the request's 8 bytes take 4.6 ms at 19200
-            os.write(fb, crc16([5, 3, 2, 0, i]))
+            os.write(fb, with_crc([5, 3, 2, 0, i]))
             time.sleep(0.04)
         time.sleep(0.3)
         live.send_signal(signal.SIGTERM)

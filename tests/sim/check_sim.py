@@ -17,19 +17,12 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "accuracy"))
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "pylib"))
 import misses  # noqa: E402
 import ref_decoder  # noqa: E402
 import score  # noqa: E402
-
-
-def crc16(data):
-    """CRC-16/MODBUS, written out independently of the C++ one."""
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
+from modbus_crc import crc16  # noqa: E402  (the CRC value: 0 over an intact frame)
 
 
 def fail(msg):

@@ -17,22 +17,14 @@ that fits the response shape, is that request's response.
   ref_decoder.py CAPTURE.hex > DECODED.jsonl
 """
 import json
+import os
 import sys
 
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
+from modbus_crc import CRC_INIT, crc16  # noqa: E402
+
 MAX_ADU = 256
-
-
-def crc_table():
-    table = []
-    for n in range(256):
-        c = n
-        for _ in range(8):
-            c = (c >> 1) ^ 0xA001 if c & 1 else c >> 1
-        table.append(c)
-    return table
-
-
-TABLE = crc_table()
 
 
 def read_capture(path):
@@ -108,12 +100,14 @@ def frame_at(buf, i):
         candidates = set(range(4, MAX_ADU + 1))
     else:
         candidates = set(req) | set(resp)
-    longest = min(max(candidates, default=0), len(buf) - i)
-    crc = 0xFFFF
-    for k in range(longest):
-        crc = (crc >> 8) ^ TABLE[(crc ^ buf[i + k]) & 0xFF]
-        if crc == 0 and k + 1 in candidates:
-            return k + 1
+    # One running CRC, continued from each candidate length to the next: over a whole
+    # frame, CRC included, it is 0.
+    crc, done = CRC_INIT, 0
+    for length in sorted(c for c in candidates if c <= len(buf) - i):
+        crc = crc16(buf[i + done:i + length], crc)
+        done = length
+        if crc == 0:
+            return length
     return None
 
 

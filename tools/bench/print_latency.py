@@ -23,14 +23,9 @@ import termios
 import time
 import tty
 
-
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return bytes(data) + bytes([crc & 0xFF, crc >> 8])
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
+from modbus_crc import with_crc  # noqa: E402
 
 
 def read_bus_log(path):
@@ -78,14 +73,14 @@ def main():
     for i in range(args.count):
         value = i & 0xFFFF
         if i % 2 == 0:
-            request = crc16([9, 3, 0, 0, 0, 2])
-            response = crc16([9, 3, 4, value >> 8, value & 0xFF, 0, 1])
+            request = with_crc([9, 3, 0, 0, 0, 2])
+            response = with_crc([9, 3, 4, value >> 8, value & 0xFF, 0, 1])
             os.write(fd, request)
             time.sleep(0.008)
             os.write(fd, response)
             wanted = 2
         else:
-            os.write(fd, crc16([0, 6, 0, 1, value >> 8, value & 0xFF]))
+            os.write(fd, with_crc([0, 6, 0, 1, value >> 8, value & 0xFF]))
             wanted = 1
         while wanted > 0:
             line = live.stdout.readline()

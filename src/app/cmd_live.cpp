@@ -17,6 +17,7 @@
 #include "app/report_points.hpp"
 #include "app/run_report.hpp"
 #include "capture/input_error.hpp"
+#include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 #include "report/output_stream.hpp"
@@ -67,6 +68,15 @@ void run_live(const LiveArgs& args, int& exit_code) {
   options.line.stop_bits = line.overrides.stop_bits.value_or(options.line.stop_bits);
   options.response_timeout = line.response_timeout;
   options.duration = static_cast<Nanos>(args.duration_s * 1e9);
+  // A port says nothing about its line: settings no option gave are Modbus's defaults, and
+  // the user is told so (on stderr and in the header), as a replay would.
+  const auto warning = line.overrides.baud
+                           ? std::nullopt
+                           : assumed_settings_warning(options.line, false, line.overrides);
+  if (warning) {
+    fmt::print(stderr, "rtuscope: warning: {}\n", *warning);
+    options.warnings.push_back(*warning);
+  }
 
   OutputStream out(args.output);
   const auto writer = make_record_writer(args.format, out, annotator, true);

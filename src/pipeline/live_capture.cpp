@@ -89,6 +89,7 @@ void LiveCapture::start() {
   summary_.declared_resolution = resolution;
   info_.per_byte_timing = false;
   info_.response_timeout = options_.response_timeout;
+  info_.warnings = options_.warnings;
   for (std::size_t i = 0; i < ports_.size(); ++i) {
     info_.source += (i == 0 ? "" : " + ") + options_.ports[i];
   }

@@ -51,7 +51,8 @@ struct LiveOptions {
   Nanos idle_period = 5 * kNanosPerMilli;
   Nanos reopen_period = 1 * kNanosPerSecond;
   Nanos flush_period = 500 * kNanosPerMilli;
-  Nanos duration = 0;  // stop by itself after this long; 0 = until stop()
+  Nanos duration = 0;                 // stop by itself after this long; 0 = until stop()
+  std::vector<std::string> warnings;  // for the header (CaptureInfo::warnings)
 };
 
 struct LiveSummary {

@@ -455,9 +455,12 @@ void Framer::flush_noise() {
   }
   last_record_end_ = noise_.t_end;
   last_record_was_frame_ = false;
-  out_.on_record(noise_);
+  // The record leaves from scratch, so that while the sink handles it the framer holds no
+  // trace of it (oldest_pending_start() is asked meanwhile when ports are merged).
+  noise_out_ = noise_;
   noise_ = Record{};
   noise_.kind = RecordKind::kNoise;
+  out_.on_record(noise_out_);
 }
 
 // A lone byte at most about a character after a frame's end, as the timestamps show: the

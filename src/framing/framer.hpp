@@ -144,6 +144,7 @@ class Framer {
 
   Record noise_;  // noise bytes accumulate here until a frame follows or it is full
   Record scratch_;
+  Record noise_out_;  // a noise record while the sink handles it
 
   bool expect_response_ = false;
   std::uint8_t expected_slave_ = 0;

@@ -100,6 +100,7 @@ void DecodePipeline::push(const Chunk& chunk) {
   Framer& framer = impl_->framer_for(chunk.port);
   idle(chunk.t_end);  // nothing was read, on any port, before this read completed
   framer.push(chunk);
+  impl_->merge.drain();
 }
 
 Nanos DecodePipeline::timing_resolution() const {

@@ -21,8 +21,9 @@ void PortMerge::on_record(std::size_t port, Record& record) {
     pass(record);
     return;
   }
+  // Held until the next read is in (drain): records of several ports leave only at reads,
+  // never at a live run's idle times, so live and replay merge them the same way.
   held_.at(port).push_back(record);
-  drain();
 }
 
 std::size_t PortMerge::earliest_port() const {

@@ -5,8 +5,10 @@
 // With two ports (the two directions of an RS-232/RS-422 link, or two adapters on one
 // bus) each port's bytes are framed on their own: bytes of a request and of a response
 // that overlap in time must never be interleaved into one frame. A record is passed on
-// once no other port still holds bytes that could start earlier. With one port records
-// pass straight through.
+// once no other port still holds bytes that could start earlier, when a read has been fed
+// (drain): a read's first byte is placed by counting back from its arrival, so it may
+// still come before a record that an idle moment could have released, and a live run and
+// its replay must release in the same order. With one port records pass straight through.
 //
 // Records are numbered here (Record::seq), in the order they leave.
 #include <cstdint>
@@ -30,13 +32,15 @@ class PortMerge {
   void on_record(std::size_t port, Record& record);
   // Ports are 0..count-1; more ports mean merging.
   void set_port_count(std::size_t count);
+  // Passes on the held records that no port can precede any more; called once a read was
+  // fed to its port's framer.
+  void drain();
   // Passes on every held record (end of input).
   void flush();
   // Start of the oldest record held or still to come from a framer; kUnknownTime if none.
   [[nodiscard]] Nanos oldest_pending_start() const;
 
  private:
-  void drain();
   // The port whose first held record starts earliest; held_.size() when none is held.
   [[nodiscard]] std::size_t earliest_port() const;
   void pass(Record& record);

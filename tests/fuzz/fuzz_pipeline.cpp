@@ -1,7 +1,9 @@
-// Fuzz target for the whole decode path: chunks → framer → tracker → JSONL and text.
+// Fuzz target for the whole decode path: chunks → framer(s) → tracker → JSONL and text.
 // The input is split into chunks with fuzzer-chosen sizes and time steps, so the framer
-// sees every mix of batched and per-byte timing. Oracle: every input byte leaves in exactly
-// one record, no record exceeds 256 bytes, records leave in time order.
+// sees every mix of batched and per-byte timing, and optionally two receiving ports.
+// Oracles: every input byte leaves in exactly one record, no record exceeds 256 bytes,
+// records of one port leave in time order, and a run with a live capture's idle calls
+// between the reads gives exactly the records of the replay without them (live ≡ replay).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -13,25 +15,81 @@
 
 namespace {
 
+// What a record shows the user, for comparing two runs.
+struct Seen {
+  rtu::RecordKind kind;
+  std::vector<std::uint8_t> bytes;
+  rtu::Nanos t_start;
+  rtu::Nanos gap;
+  std::uint64_t issues;
+  rtu::Role role;
+  std::int64_t txn;
+  rtu::Nanos latency;
+  bool operator==(const Seen&) const = default;
+};
+
 class CheckingSink : public rtu::RecordSink {
  public:
-  CheckingSink(rtu::RecordSink& json, rtu::RecordSink& text) : json_(json), text_(text) {}
+  CheckingSink(rtu::RecordSink& json, rtu::RecordSink& text, bool one_port)
+      : json_(json), text_(text), one_port_(one_port) {}
   void on_record(rtu::Record& record) override {
     if (record.size == 0 || record.size > rtu::kMaxAdu) std::abort();
     if (record.t_end < record.t_start) std::abort();
-    if (last_start_ != rtu::kUnknownTime && record.t_start < last_start_) std::abort();
+    if (one_port_ && last_start_ != rtu::kUnknownTime && record.t_start < last_start_) {
+      std::abort();
+    }
     last_start_ = record.t_start;
     bytes += record.size;
+    seen.push_back(Seen{record.kind,
+                        {record.bytes().begin(), record.bytes().end()},
+                        record.t_start,
+                        record.gap_before,
+                        record.issues.bits(),
+                        record.role,
+                        record.txn,
+                        record.latency});
     json_.on_record(record);
     text_.on_record(record);
   }
   std::size_t bytes = 0;
+  std::vector<Seen> seen;
 
  private:
   rtu::RecordSink& json_;
   rtu::RecordSink& text_;
+  bool one_port_;
   rtu::Nanos last_start_ = rtu::kUnknownTime;
 };
+
+struct Read {
+  rtu::Nanos t_end;
+  std::uint8_t port;
+  std::vector<std::uint8_t> bytes;
+};
+
+// Decodes the reads; with `idle_step` > 0 also calls idle() every idle_step while no read
+// is due, as a live capture's timer does.
+std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOptions& options,
+                         bool one_port, rtu::Nanos idle_step, std::size_t payload) {
+  static rtu::OutputStream devnull("/dev/null");
+  rtu::JsonlWriter json(devnull);
+  rtu::TextWriter text(devnull);
+  CheckingSink sink(json, text, one_port);
+  rtu::DecodePipeline pipeline(options, sink);
+  rtu::Nanos now = 0;
+  for (const auto& read : reads) {
+    for (; idle_step > 0 && now + idle_step < read.t_end; now += idle_step) pipeline.idle(now);
+    rtu::Chunk c;
+    c.t_end = read.t_end;
+    c.bytes = read.bytes;
+    c.port = read.port;
+    pipeline.push(c);
+    now = read.t_end;
+  }
+  pipeline.finish();
+  if (sink.bytes != payload) std::abort();
+  return std::move(sink.seen);
+}
 
 }  // namespace
 
@@ -41,32 +99,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.line.baud = (data[0] & 1U) != 0 ? 9600 : 115200;
   options.timing_resolution = (data[0] & 2U) != 0 ? 16 * rtu::kNanosPerMilli : rtu::kNanosPerMicro;
   options.response_timeout = 100 * rtu::kNanosPerMilli;
-  static rtu::OutputStream devnull("/dev/null");
-  rtu::JsonlWriter json(devnull);
-  rtu::TextWriter text(devnull);
-  CheckingSink sink(json, text);
-  rtu::DecodePipeline pipeline(options, sink);
+  const bool two_ports = (data[0] & 4U) != 0;
+  const rtu::Nanos idle_step = (1 + ((data[0] >> 3U) & 7U)) * rtu::kNanosPerMilli / 2;
 
   // Layout: [mode] then repeated [len (low 5 bits) | step] [len bytes...]
   std::size_t pos = 1;
   std::size_t payload = 0;
   rtu::Nanos t = 0;
-  std::vector<std::uint8_t> chunk;
+  std::vector<Read> reads;
   while (pos < size) {
     const std::uint8_t control = data[pos++];
     const std::size_t len = (control & 0x1FU) + 1U;
     t += static_cast<rtu::Nanos>(control >> 5U) * 3 * rtu::kNanosPerMilli +
          static_cast<rtu::Nanos>(len) * options.line.char_time();
-    chunk.assign(data + pos, data + std::min(size, pos + len));
-    pos += chunk.size();
-    if (chunk.empty()) break;
-    payload += chunk.size();
-    rtu::Chunk c;
-    c.t_end = t;
-    c.bytes = chunk;
-    pipeline.push(c);
+    if (pos >= size) break;
+    Read read{t, 0, {data + pos, data + std::min(size, pos + len)}};
+    pos += read.bytes.size();
+    if (two_ports) read.port = read.bytes[0] & 1U;
+    payload += read.bytes.size();
+    reads.push_back(std::move(read));
   }
-  pipeline.finish();
-  if (sink.bytes != payload) std::abort();
+  const auto replayed = decode(reads, options, !two_ports, 0, payload);
+  const auto lived = decode(reads, options, !two_ports, idle_step, payload);
+  if (lived != replayed) std::abort();
   return 0;
 }

@@ -170,8 +170,26 @@ void TrafficStats::on_record(Record& r) {
     count_noise(r);
   } else {
     count_frame(r);
+    frame_end_ = r.t_end;
+    glitch_span_ = 0;
     if (point_source_ != nullptr) point_source_->extract(r, *this);
   }
+}
+
+// The silence from the last frame's end to `next`'s start, across the turnaround glitches in
+// between (as the framer measures t3.5): the glitch is the line settling while the turnaround
+// goes on, so the master's turnaround reads the same on the wire as at the UART pins.
+Nanos TrafficStats::silence_since_frame(const Record& next) const {
+  if (glitch_span_ == kUnknownTime || next.gap_before == kUnknownTime) return kUnknownTime;
+  return glitch_span_ + next.gap_before;
+}
+
+// A glitch extends the span from the last frame to its own end; a gap the timestamps blur
+// (or no frame before) leaves the span unknown.
+void TrafficStats::bridge_glitch(const Record& glitch) {
+  const bool known = glitch_span_ != kUnknownTime && glitch.gap_before != kUnknownTime &&
+                     frame_end_ != kUnknownTime;
+  glitch_span_ = known ? glitch.t_end - frame_end_ : kUnknownTime;
 }
 
 void TrafficStats::count_frame(const Record& r) {
@@ -222,8 +240,9 @@ void TrafficStats::count_request(const Record& r) {
   TrafficBucket& bucket = timeline_.at(r.t_start);
   ++totals_.requests;
   ++bucket.requests;
-  if (previous_ == Previous::kResponse && r.gap_before != kUnknownTime) {
-    master_turnaround_.add(r.gap_before);
+  const Nanos turnaround = silence_since_frame(r);
+  if (previous_ == Previous::kResponse && turnaround != kUnknownTime) {
+    master_turnaround_.add(turnaround);
   }
   previous_ = Previous::kRequest;
   const bool timed_out = r.issues.has(IssueId::kTimeout);
@@ -364,17 +383,27 @@ void TrafficStats::count_response(const Record& r) {
 // Every noise record is counted once in the totals and once more in exactly one of: the
 // framer's turnaround glitches, the 0x00/0xFF bytes after a turnaround, or the rest (the
 // `noise` finding). So the rest's records and bytes are counted over the same records.
-void TrafficStats::count_noise(const Record& r) {
+// Returns whether `r` is a turnaround glitch of either kind. A glitch keeps the turnaround it
+// sits in open (previous_ and the span from the frame before it); other noise ends it.
+bool TrafficStats::count_noise(const Record& r) {
   ++totals_.noise_records;
   totals_.noise_bytes += r.size;
   timeline_.at(r.t_start).noise_bytes += r.size;
+  bool glitch = true;
   if (r.issues.has(IssueId::kTurnaroundGlitch)) {
     count_turnaround_glitch(r);
   } else if (!count_glitch_after_turnaround(r)) {
     ++other_noise_records_;
     other_noise_bytes_ += r.size;
+    glitch = false;
   }
-  previous_ = Previous::kOther;
+  if (glitch) {
+    bridge_glitch(r);
+  } else {
+    previous_ = Previous::kOther;
+    glitch_span_ = kUnknownTime;
+  }
+  return glitch;
 }
 
 // The framer flags a lone byte that follows a frame within about a character: the driver of

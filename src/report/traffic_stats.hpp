@@ -210,7 +210,8 @@ class TrafficStats : public RecordSink, private PointSink {
   [[nodiscard]] bool device_model_identified(std::uint8_t address) const;
   [[nodiscard]] bool device_exception(std::uint8_t address, std::uint8_t code) const;
   [[nodiscard]] std::string_view exception_name(std::uint8_t address, std::uint8_t code) const;
-  // Silence from a response's end to the master's next request (where observable).
+  // Silence from a response's end to the master's next request (where observable), turnaround
+  // glitches in between included.
   [[nodiscard]] const LogHistogram& master_turnaround() const { return master_turnaround_; }
   // Latencies of every slave together.
   [[nodiscard]] LogHistogram all_latencies() const;
@@ -241,10 +242,12 @@ class TrafficStats : public RecordSink, private PointSink {
   void count_damaged_request(std::uint8_t slave);
   void note_unknown_frame(const Record& r);
   void settle_unknown_request(const Record& next);
-  void count_noise(const Record& r);
+  bool count_noise(const Record& r);
   void count_turnaround_glitch(const Record& r);
   bool count_glitch_after_turnaround(const Record& r);
   void count_line_errors(const Record& r);
+  [[nodiscard]] Nanos silence_since_frame(const Record& next) const;
+  void bridge_glitch(const Record& glitch);
 
   PointSource* point_source_;
   PointSink* also_;
@@ -260,9 +263,14 @@ class TrafficStats : public RecordSink, private PointSink {
   std::string point_key_;  // reused lookup key
   LogHistogram master_turnaround_;
 
-  // What the previous record was, for turnaround and attribution.
+  // What the previous record was, for turnaround and attribution. A turnaround glitch leaves
+  // it unchanged: the line settling inside a turnaround is not the next record of traffic.
   enum class Previous : std::uint8_t { kNothing, kRequest, kResponse, kOther };
   Previous previous_ = Previous::kNothing;
+  // End of the last frame, and the time from it to the end of the turnaround glitches after
+  // it (0 when a frame was the last record; kUnknownTime when a gap in between is blurred).
+  Nanos frame_end_ = kUnknownTime;
+  Nanos glitch_span_ = kUnknownTime;
   std::optional<std::uint8_t> awaiting_;         // slave whose answer is expected
   Nanos awaited_end_ = kUnknownTime;             // end of the request that set awaiting_
   bool awaited_timed_out_ = false;               // the tracker's verdict on that request

@@ -541,6 +541,9 @@ class RecordFeed {
     stats_.on_record(r);
   }
 
+  // The next record's silence happens but its timestamps do not show it (USB batching).
+  void blur_next_gap() { blur_next_ = true; }
+
   // The findings once the capture has ended.
   std::vector<Finding> finish() {
     stats_.on_finish();
@@ -557,7 +560,8 @@ class RecordFeed {
     std::copy(bytes.begin(), bytes.end(), r.storage.begin());
     r.size = static_cast<std::uint16_t>(bytes.size());
     r.t_start = t_ + silence;
-    r.gap_before = silence;
+    r.gap_before = blur_next_ ? kUnknownTime : silence;
+    blur_next_ = false;
     r.t_end = r.t_start + static_cast<Nanos>(bytes.size()) * info_.line.char_time();
     t_ = r.t_end;
     return r;
@@ -566,6 +570,7 @@ class RecordFeed {
   TrafficStats stats_;
   CaptureInfo info_;
   Nanos t_ = kNanosPerSecond;
+  bool blur_next_ = false;
 };
 
 const Finding* find_finding(const std::vector<Finding>& findings, std::string_view key,
@@ -805,6 +810,98 @@ TEST(Findings, NoiseFindingCountsBytesAndStretchesOverTheSameRecords) {
             std::string::npos)
       << f->summary;
   EXPECT_EQ(evidence_of(*find_finding(findings, "turnaround_glitches"), "glitches"), 46.0);
+}
+
+// ---- Timing across turnaround glitches -------------------------------------------------
+
+// 9600 8E1, the feed's line: 11 bits a character.
+constexpr Nanos kCharTime = 1'145'833;
+
+TEST(TrafficStats, MasterTurnaroundIsMeasuredAcrossAFlaggedGlitch) {
+  RecordFeed feed;
+  ASSERT_EQ(feed.info().line.char_time(), kCharTime);
+  for (int c = 0; c < 4; ++c) {
+    feed.frame(read_request(1), Role::kRequest, {}, c == 0 ? 20 * kMs : 4 * kMs);
+    feed.frame(read_response(1), Role::kResponse, {}, 3 * kMs);
+    // 0.1 ms after the response its sender's driver lets go: one byte of glitch.
+    feed.noise({0xFE}, {IssueId::kTurnaroundGlitch}, 100 * kNanosPerMicro);
+  }
+  feed.frame(read_request(1), Role::kRequest, {}, 4 * kMs);
+  feed.finish();
+  const LogHistogram& h = feed.stats().master_turnaround();
+  // From the response's end: 0.1 ms of silence, the glitch's character, 4 ms of silence.
+  const Nanos expected = 100 * kNanosPerMicro + kCharTime + 4 * kMs;  // 5.245833 ms
+  EXPECT_EQ(expected, 5'245'833);
+  EXPECT_EQ(h.count(), 4U);
+  EXPECT_EQ(h.min(), expected);
+  EXPECT_EQ(h.max(), expected);
+}
+
+TEST(TrafficStats, MasterTurnaroundIsMeasuredAcrossAZeroByteAfterTheResponse) {
+  RecordFeed feed;
+  feed.frame(read_request(2), Role::kRequest);
+  feed.frame(read_response(2), Role::kResponse, {}, 3 * kMs);
+  feed.noise({0x00}, {}, 2 * kMs);  // not flagged (too late), but a 0x00 after a turnaround
+  feed.frame(read_request(2), Role::kRequest, {}, 5 * kMs);
+  feed.finish();
+  const LogHistogram& h = feed.stats().master_turnaround();
+  ASSERT_EQ(h.count(), 1U);
+  EXPECT_EQ(h.min(), 2 * kMs + kCharTime + 5 * kMs);  // 8.145833 ms
+  EXPECT_EQ(feed.stats().glitches_after_response(), 1U);
+}
+
+TEST(TrafficStats, OtherNoiseOrABlurredGapStillEndsTheTurnaround) {
+  RecordFeed feed;
+  // Interference between the response and the next request: not the master's turnaround.
+  feed.frame(read_request(3), Role::kRequest);
+  feed.frame(read_response(3), Role::kResponse, {}, 3 * kMs);
+  feed.noise({0x13, 0x37, 0x42}, {}, 2 * kMs);
+  feed.frame(read_request(3), Role::kRequest, {}, 5 * kMs);
+  // A glitch whose gap the timestamps blur: the span across it is unknown.
+  feed.frame(read_response(3), Role::kResponse, {}, 3 * kMs);
+  feed.blur_next_gap();
+  feed.noise({0xFE}, {IssueId::kTurnaroundGlitch}, 100 * kNanosPerMicro);
+  feed.frame(read_request(3), Role::kRequest, {}, 5 * kMs);
+  // A plain turnaround is still measured, from the gap alone.
+  feed.frame(read_response(3), Role::kResponse, {}, 3 * kMs);
+  feed.frame(read_request(3), Role::kRequest, {}, 6 * kMs);
+  feed.finish();
+  const LogHistogram& h = feed.stats().master_turnaround();
+  ASSERT_EQ(h.count(), 1U);
+  EXPECT_EQ(h.min(), 6 * kMs);
+}
+
+// Through the framer: the glitch is flagged there and t3.5 and the master's turnaround are
+// both measured across it, as on the same traffic without the glitch.
+TEST(TrafficStats, GlitchesDoNotChangeTheTimingOfTheTrafficAroundThem) {
+  auto traffic = [](bool glitches) {
+    BusBuilder bus;
+    Nanos idle = 20 * kMs;
+    for (int c = 0; c < 5; ++c) {
+      bus.add(read_request(1), idle);
+      if (glitches) bus.add({0x00}, 20 * kNanosPerMicro);
+      // 3 ms after the request's end, glitch or not: less than t3.5 (4.010 ms).
+      bus.add(read_response(1), glitches ? 3 * kMs - 20 * kNanosPerMicro - kCharTime : 3 * kMs);
+      if (glitches) bus.add({0xFE}, 150 * kNanosPerMicro);
+      idle = glitches ? 5 * kMs - 150 * kNanosPerMicro - kCharTime : 5 * kMs;
+    }
+    return analyse(bus);
+  };
+  const Analysis clean = traffic(false);
+  const Analysis wire = traffic(true);
+  EXPECT_EQ(wire.stats->totals().turnaround_glitch_records, 10U);
+  for (const Analysis* a : {&clean, &wire}) {
+    const LogHistogram& h = a->stats->master_turnaround();
+    EXPECT_EQ(h.count(), 4U);
+    EXPECT_EQ(h.min(), 5 * kMs);
+    EXPECT_EQ(h.max(), 5 * kMs);
+    const LogHistogram latency = a->stats->all_latencies();
+    EXPECT_EQ(latency.count(), 5U);
+    EXPECT_EQ(latency.min(), 3 * kMs);
+    EXPECT_EQ(latency.max(), 3 * kMs);
+    EXPECT_EQ(a->stats->slave(1)->t35_responses, 5U);
+    EXPECT_NE(a->find("responses_too_soon"), nullptr);
+  }
 }
 
 }  // namespace

@@ -26,6 +26,20 @@ bool is_damaged(const Record& frame) {
          frame.issues.has(IssueId::kBreak) || frame.issues.has(IssueId::kOverrun);
 }
 
+void LineErrorCounts::add(std::uint8_t line_errors) {
+  ++records;
+  if ((line_errors & kParityError) != 0) ++parity;
+  if ((line_errors & kFramingError) != 0) ++framing;
+  if ((line_errors & kBreak) != 0) ++breaks;
+  if ((line_errors & kOverrun) != 0) ++overruns;
+}
+
+LineErrorCounts Totals::line_errors_beyond_glitches() const {
+  const LineErrorCounts& g = glitch_line_errors;
+  return LineErrorCounts{line_error_records - g.records, parity_errors - g.parity,
+                         framing_errors - g.framing, breaks - g.breaks, overruns - g.overruns};
+}
+
 double Totals::utilisation() const {
   const Nanos d = duration();
   if (d <= 0) return 0.0;
@@ -165,10 +179,12 @@ void TrafficStats::on_record(Record& r) {
     b.busy_ns += share * static_cast<double>(busy);
   });
 
-  if (r.line_errors != 0) count_line_errors(r);
+  // Noise is sorted first: line errors on a turnaround glitch are not a device's.
   if (r.kind == RecordKind::kNoise) {
-    count_noise(r);
+    const bool glitch = count_noise(r);
+    if (r.line_errors != 0) count_line_errors(r, glitch);
   } else {
+    if (r.line_errors != 0) count_line_errors(r, false);
     count_frame(r);
     frame_end_ = r.t_end;
     glitch_span_ = 0;
@@ -412,10 +428,15 @@ bool TrafficStats::count_noise(const Record& r) {
 void TrafficStats::count_turnaround_glitch(const Record& r) {
   ++totals_.turnaround_glitch_records;
   totals_.turnaround_glitch_bytes += r.size;
+  const bool line_error = r.line_errors != 0;
+  if (line_error) ++totals_.turnaround_glitch_line_errors;
   if (last_sender_) {
-    ++slave_mut(*last_sender_).turnaround_glitches_sent;
+    SlaveStats& s = slave_mut(*last_sender_);
+    ++s.turnaround_glitches_sent;
+    if (line_error) ++s.turnaround_glitch_line_errors;
   } else {
     ++master_glitches_;
+    if (line_error) ++master_glitch_line_errors_;
   }
 }
 
@@ -428,17 +449,25 @@ bool TrafficStats::count_glitch_after_turnaround(const Record& r) {
   if (!after_request && !after_response) return false;
   if (after_request) ++slave_mut(*awaiting_).glitches_after_request;
   if (after_response) ++glitches_after_response_;
+  if (r.line_errors != 0) ++glitch_line_errors_;
   for (const std::uint8_t b : r.bytes()) ++(b == 0 ? glitch_00_ : glitch_ff_);
   return true;
 }
 
-void TrafficStats::count_line_errors(const Record& r) {
+// Every line-error record counts in the totals and the timeline. One on a turnaround glitch
+// is the undriven bus read between two talkers: it blames no slave (that is the glitch
+// findings' business) and does not delimit the valid frames "between line errors".
+void TrafficStats::count_line_errors(const Record& r, bool glitch) {
   ++totals_.line_error_records;
   if ((r.line_errors & kParityError) != 0) ++totals_.parity_errors;
   if ((r.line_errors & kFramingError) != 0) ++totals_.framing_errors;
   if ((r.line_errors & kBreak) != 0) ++totals_.breaks;
   if ((r.line_errors & kOverrun) != 0) ++totals_.overruns;
   ++timeline_.at(r.t_start).line_errors;
+  if (glitch) {
+    totals_.glitch_line_errors.add(r.line_errors);
+    return;
+  }
   if (r.kind == RecordKind::kFrame && r.slave() != 0) {
     ++slave_mut(r.slave()).line_errors;
   } else if (awaiting_) {

@@ -115,7 +115,19 @@ void crc_rules(const TrafficStats& stats, Builder& b) {
   }
 }
 
-// 0x00/0xFF bytes right after a turnaround: at least 3 of them.
+// What a framing error or break on these glitches adds: nobody drove the line (an undriven
+// line reads low), so bias is missing rather than only a driver being slow. Empty when none.
+std::string floating_bus_note(std::uint64_t with_line_errors) {
+  if (with_line_errors == 0) return {};
+  return fmt::format(
+      "; {} of them carry a framing error or break, the undriven line read as low: the bus "
+      "floats at turnaround, so the fail-safe bias is missing",
+      with_line_errors);
+}
+
+// 0x00/0xFF bytes after a turnaround that the framer did not flag (it flags lone bytes within
+// about a character of a frame: sender_glitch_rule): at least 3 of them. The two rules count
+// disjoint records and together make up the turnaround glitches.
 void glitch_rule(const TrafficStats& stats, Builder& b) {
   std::uint64_t after_request = 0;
   std::uint8_t worst = 0;
@@ -139,14 +151,22 @@ void glitch_rule(const TrafficStats& stats, Builder& b) {
       stats.glitch_bytes_ff(),
       worst_count > 0 ? fmt::format(", most before slave {}'s answer ({})", worst, worst_count)
                       : std::string());
+  if (t.turnaround_glitch_records > 0) {
+    f.summary += fmt::format(
+        "; besides the {} lone bytes right after a frame (turnaround_glitch), not counted here",
+        t.turnaround_glitch_records);
+  }
+  const std::uint64_t line_errors = stats.glitches_after_turnaround_line_errors();
   f.cause =
       "missing bias (fail-safe) resistors or a slow driver enable: the line floats while no "
-      "driver holds it and a receiver sees a false start bit";
+      "driver holds it and a receiver sees a false start bit" +
+      floating_bus_note(line_errors);
   ev(f, "glitches", static_cast<double>(total));
   ev(f, "after_requests", static_cast<double>(after_request));
   ev(f, "after_responses", static_cast<double>(stats.glitches_after_response()));
   ev(f, "bytes_00", static_cast<double>(stats.glitch_bytes_00()));
   ev(f, "bytes_ff", static_cast<double>(stats.glitch_bytes_ff()));
+  ev(f, "line_errors", static_cast<double>(line_errors));
 }
 
 // Who sent the frame a turnaround glitch followed, for sentences.
@@ -154,35 +174,63 @@ std::string sender_name(std::optional<std::uint8_t> slave) {
   return slave ? fmt::format("slave {}", *slave) : std::string("the master");
 }
 
-// `frames` are the sender's own frames a glitch can follow: its requests or its responses.
-void sender_glitch_finding(Builder& b, std::optional<std::uint8_t> slave, std::uint64_t glitches,
-                           std::uint64_t frames, const std::string& frames_name) {
-  const double share = std::min(1.0, ratio(glitches, frames));
-  const std::string sender = sender_name(slave);
-  Finding& f = b.add("turnaround_glitch", Severity::kWarning, slave, share);
+// One sender's turnaround glitches: how many, how many with line errors, and the sender's own
+// frames a glitch can follow (its requests or its responses).
+struct SenderGlitches {
+  std::optional<std::uint8_t> slave;  // empty: the master
+  std::uint64_t glitches = 0;
+  std::uint64_t line_errors = 0;
+  std::uint64_t frames = 0;
+  std::string frames_name;
+};
+
+// Without line errors the glitch is the sender's driver letting go untidily; with framing
+// errors or breaks the line was left undriven, which bias should have held idle.
+std::string sender_glitch_cause(const SenderGlitches& g) {
+  const std::string sender = sender_name(g.slave);
+  if (g.line_errors == 0) {
+    return fmt::format(
+        "{}'s RS-485 driver/transceiver glitches at turnaround (driver-enable timing or "
+        "missing bias/termination)",
+        sender);
+  }
+  return fmt::format(
+      "a framing error or break at turnaround means the bus floats when {}'s driver lets go: "
+      "nobody holds the line idle, so the fail-safe bias resistors are missing (or too weak); "
+      "{}'s driver-enable timing may add to it",
+      sender, sender);
+}
+
+void sender_glitch_finding(Builder& b, const SenderGlitches& g) {
+  const double share = std::min(1.0, ratio(g.glitches, g.frames));
+  Finding& f = b.add("turnaround_glitch", Severity::kWarning, g.slave, share);
   f.summary = fmt::format(
       "{} lone bytes followed {}'s frames within about a character, after {} of its {} {}",
-      glitches, sender, pct(share), frames, frames_name);
-  f.cause = fmt::format(
-      "{}'s RS-485 driver/transceiver glitches at turnaround (driver-enable timing or missing "
-      "bias/termination)",
-      sender);
-  ev(f, "glitches", static_cast<double>(glitches));
-  ev(f, frames_name, static_cast<double>(frames));
+      g.glitches, sender_name(g.slave), pct(share), g.frames, g.frames_name);
+  if (g.line_errors > 0) {
+    f.summary += fmt::format("; {} with a framing error or break", g.line_errors);
+  }
+  f.cause = sender_glitch_cause(g);
+  ev(f, "glitches", static_cast<double>(g.glitches));
+  ev(f, g.frames_name, static_cast<double>(g.frames));
   ev(f, "share", share * 100.0, "%");
+  ev(f, "line_errors", static_cast<double>(g.line_errors));
 }
 
 // Lone bytes the framer flagged `turnaround_glitch`, per sender: at least 3 from one sender.
-// They are explained by their sender's driver, so the `noise` finding leaves them out.
+// They are explained by their sender's turnaround, so neither the `noise` finding nor the
+// line-error findings count them.
 void sender_glitch_rule(const TrafficStats& stats, Builder& b) {
   const Totals& t = stats.totals();
   if (stats.master_turnaround_glitches() >= 3) {
-    sender_glitch_finding(b, std::nullopt, stats.master_turnaround_glitches(), t.requests,
-                          "requests");
+    sender_glitch_finding(b,
+                          {std::nullopt, stats.master_turnaround_glitches(),
+                           stats.master_turnaround_glitch_line_errors(), t.requests, "requests"});
   }
   for_each_slave(stats, [&](std::uint8_t a, const SlaveStats& s) {
     if (s.turnaround_glitches_sent >= 3) {
-      sender_glitch_finding(b, a, s.turnaround_glitches_sent, s.responses, "responses");
+      sender_glitch_finding(b, {a, s.turnaround_glitches_sent, s.turnaround_glitch_line_errors,
+                                s.responses, "responses"});
     }
   });
 }
@@ -366,40 +414,49 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
   (void)t;
 }
 
+// " (besides 46 on turnaround glitches)": line errors these rules leave to the glitch ones.
+std::string glitch_line_errors_note(const Totals& t) {
+  const std::uint64_t n = t.glitch_line_errors.records;
+  return n == 0 ? std::string() : fmt::format(" (besides {} on turnaround glitches)", n);
+}
+
 // Line errors where one slave's answer is due (≥ 3 records, ≥ 60% of all); otherwise spread.
+// Line errors on turnaround glitches are the undriven bus, not a device's settings: they are
+// left to the glitch findings and counted in neither rule.
 void line_error_rules(const TrafficStats& stats, Builder& b) {
   const Totals& t = stats.totals();
-  if (t.line_error_records < 3) return;
+  const LineErrorCounts le = t.line_errors_beyond_glitches();
+  if (le.records < 3) return;
   bool explained = false;
   for_each_slave(stats, [&](std::uint8_t a, const SlaveStats& s) {
-    if (s.line_errors < 3 || ratio(s.line_errors, t.line_error_records) < 0.6) return;
+    if (s.line_errors < 3 || ratio(s.line_errors, le.records) < 0.6) return;
     explained = true;
-    const double share = ratio(s.line_errors, t.line_error_records);
+    const double share = ratio(s.line_errors, le.records);
     Finding& f = b.add("line_errors_one_device", Severity::kError, a, share);
     f.summary = fmt::format(
         "{} of {} records with parity/framing errors ({}) fall where slave {} answers, with {} "
-        "valid frames in between",
-        s.line_errors, t.line_error_records, pct(share), a, t.valid_frames_between_line_errors);
+        "valid frames in between{}",
+        s.line_errors, le.records, pct(share), a, t.valid_frames_between_line_errors,
+        glitch_line_errors_note(t));
     f.cause =
         fmt::format("slave {} is set to another baud rate or parity than the rest of the bus", a);
     ev(f, "slave_line_errors", static_cast<double>(s.line_errors));
-    ev(f, "line_error_records", static_cast<double>(t.line_error_records));
+    ev(f, "line_error_records", static_cast<double>(le.records));
     ev(f, "valid_frames_between", static_cast<double>(t.valid_frames_between_line_errors));
   });
   if (explained || t.valid_frames_between_line_errors == 0) return;
-  Finding& f = b.add("line_errors", Severity::kWarning, std::nullopt,
-                     ratio(t.line_error_records, t.records));
+  Finding& f = b.add("line_errors", Severity::kWarning, std::nullopt, ratio(le.records, t.records));
   f.summary = fmt::format(
       "{} records with line errors ({} parity, {} framing, {} break) with {} valid frames in "
-      "between",
-      t.line_error_records, t.parity_errors, t.framing_errors, t.breaks,
-      t.valid_frames_between_line_errors);
+      "between{}",
+      le.records, le.parity, le.framing, le.breaks, t.valid_frames_between_line_errors,
+      glitch_line_errors_note(t));
   f.cause =
       "a device with a baud rate or parity mismatch, or interference strong enough to flip "
       "bits";
-  ev(f, "line_error_records", static_cast<double>(t.line_error_records));
-  ev(f, "parity_errors", static_cast<double>(t.parity_errors));
-  ev(f, "framing_errors", static_cast<double>(t.framing_errors));
+  ev(f, "line_error_records", static_cast<double>(le.records));
+  ev(f, "parity_errors", static_cast<double>(le.parity));
+  ev(f, "framing_errors", static_cast<double>(le.framing));
   ev(f, "valid_frames_between", static_cast<double>(t.valid_frames_between_line_errors));
 }
 

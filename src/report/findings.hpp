@@ -9,15 +9,18 @@
 //   crc_errors_one_slave          CRC errors concentrated on one slave's frames
 //   crc_errors_long_frames        CRC error rate grows with frame length
 //   crc_errors_spread             CRC errors on several slaves and lengths alike
-//   turnaround_glitches           lone 0x00/0xFF bytes right after a turnaround
+//   turnaround_glitches           lone 0x00/0xFF bytes after a turnaround that the framer
+//                                 did not flag (never the same records as turnaround_glitch)
 //   turnaround_glitch             lone bytes the framer flagged right after one sender's
-//                                 frames: that sender's RS-485 driver (one per sender)
+//                                 frames: that sender's RS-485 driver, or the bus floating
+//                                 when they carry framing errors/breaks (one per sender)
 //   damaged_requests              requests the wire damaged went unanswered (not timeouts)
 //   pauses_in_responses           silences > t1.5 inside one slave's responses
 //   responses_after_next_request  a slave's answers arrive after the master moved on
 //   unsolicited_responses         responses with no request (not explained as late answers)
 //   line_errors_one_device        parity/framing errors where one slave's answer is due
 //   line_errors                   parity/framing errors with valid frames in between
+//                                 (both leave out line errors on turnaround glitches)
 //   slave_not_responding          a slave answers (almost) none of its requests
 //   slave_timeouts                a slave misses some of its requests
 //   timeout_fit                   which master timeout would lose which share of answers

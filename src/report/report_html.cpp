@@ -529,6 +529,11 @@ void timing_section(Out& o, const TrafficStats& stats) {
       "{}</td></tr>",
       stats.master_turnaround_glitches(),
       t.turnaround_glitch_records - stats.master_turnaround_glitches());
+  // A framing error or break on them is the undriven bus (missing bias), not a device.
+  put(o,
+      "<tr><th class=\"l\">of those, with a framing error or break (the bus floating at "
+      "turnaround)</th><td id=\"turnaround-glitch-line-errors\">{}</td></tr>",
+      t.turnaround_glitch_line_errors);
   for (unsigned a = 1; a < 256; ++a) {
     const SlaveStats* s = stats.slave(static_cast<std::uint8_t>(a));
     if (s == nullptr) continue;

@@ -115,6 +115,8 @@ void write_totals(JsonWriter& j, const TrafficStats& stats) {
   j.field("framing", t.framing_errors);
   j.field("break", t.breaks);
   j.field("overrun", t.overruns);
+  // Of those records, the ones on turnaround glitches (the line-error findings leave them out).
+  j.field("on_turnaround_glitches", t.glitch_line_errors.records);
   j.end_object();
   j.field("t1_5_pauses", t.t15_frames);
   j.field("t3_5_violations", t.t35_frames);
@@ -224,6 +226,7 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   j.field("t3_5_requests_too_soon", s.t35_requests);
   j.field("turnaround_glitches", s.glitches_after_request);
   j.field("turnaround_glitch_sent", s.turnaround_glitches_sent);
+  j.field("turnaround_glitch_sent_line_errors", s.turnaround_glitch_line_errors);
   j.end_object();
   j.key("timeout_fit");
   j.begin_array();
@@ -265,6 +268,7 @@ void write_timing(JsonWriter& j, const TrafficStats& stats) {
   j.field("after_responses", stats.glitches_after_response());
   j.field("bytes_00", stats.glitch_bytes_00());
   j.field("bytes_ff", stats.glitch_bytes_ff());
+  j.field("line_errors", stats.glitches_after_turnaround_line_errors());
   j.end_object();
   // Lone bytes the framer flagged `turnaround_glitch`, by sender (slaves: per slave).
   j.key("turnaround_glitch");
@@ -272,6 +276,8 @@ void write_timing(JsonWriter& j, const TrafficStats& stats) {
   j.field("records", stats.totals().turnaround_glitch_records);
   j.field("bytes", stats.totals().turnaround_glitch_bytes);
   j.field("from_master", stats.master_turnaround_glitches());
+  j.field("line_errors", stats.totals().turnaround_glitch_line_errors);
+  j.field("from_master_line_errors", stats.master_turnaround_glitch_line_errors());
   j.end_object();
   j.end_object();
 }

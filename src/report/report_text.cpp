@@ -36,6 +36,18 @@ std::string glitch_senders(const TrafficStats& stats) {
   return out;
 }
 
+// "; 46 on turnaround glitches": line errors that are the undriven bus, not a device's.
+std::string glitch_line_errors(const Totals& t) {
+  const std::uint64_t n = t.glitch_line_errors.records;
+  return n == 0 ? std::string() : fmt::format("; {} on turnaround glitches", n);
+}
+
+// "; 46 with a framing error or break": the framer's glitches where the bus floated.
+std::string flagged_glitch_line_errors(const Totals& t) {
+  const std::uint64_t n = t.turnaround_glitch_line_errors;
+  return n == 0 ? std::string() : fmt::format("; {} with a framing error or break", n);
+}
+
 }  // namespace
 
 void write_report_text(OutputStream& out, const TrafficStats& stats,
@@ -59,8 +71,9 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "  timeouts          {} ({} late responses)", t.timeouts, t.late);
   line(o, "  damaged requests  {} (unanswered; not counted as timeouts)", t.damaged_requests);
   line(o, "  unsolicited       {} ({} from the wrong slave)", t.unsolicited, t.wrong_slave);
-  line(o, "  line errors       {} ({} parity, {} framing, {} break, {} overrun)",
-       t.line_error_records, t.parity_errors, t.framing_errors, t.breaks, t.overruns);
+  line(o, "  line errors       {} ({} parity, {} framing, {} break, {} overrun){}",
+       t.line_error_records, t.parity_errors, t.framing_errors, t.breaks, t.overruns,
+       glitch_line_errors(t));
   line(o, "  timing resolution {:.3f} ms", to_millis(info.timing_resolution));
   line(o, "");
 
@@ -126,8 +139,8 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
        stats.t15_observable() ? "" : " (not observable in this capture)");
   line(o, "  t3.5 violations                {}{}", t.t35_frames,
        stats.t35_observable() ? "" : " (not observable in this capture)");
-  line(o, "  driver glitches at turnaround  {} ({})", t.turnaround_glitch_records,
-       glitch_senders(stats));
+  line(o, "  driver glitches at turnaround  {} ({}{})", t.turnaround_glitch_records,
+       glitch_senders(stats), flagged_glitch_line_errors(t));
   out.write(o);
 }
 

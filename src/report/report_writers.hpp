@@ -10,8 +10,9 @@
 //              bus_utilisation_pct, crc_errors, exceptions, timeouts (intact requests
 //              unanswered), damaged_requests (damaged requests unanswered), late_responses,
 //              unsolicited, wrong_slave, line_errors {records, parity, framing, break,
-//              overrun}, t1_5_pauses, t3_5_violations, timing_resolution_ms, slaves,
-//              request_kinds, request_kinds_overflow, points, points_overflow}
+//              overrun, on_turnaround_glitches (records among them that are turnaround
+//              glitches of either kind)}, t1_5_pauses, t3_5_violations, timing_resolution_ms,
+//              slaves, request_kinds, request_kinds_overflow, points, points_overflow}
 //   slaves    {"<addr>": {device (model, null when unknown), device_model_source
 //              ("configured" by --device/--bus, "identified" from the traffic, null), requests,
 //              responses, exceptions, exceptions_by_code [{code, name (the device map's own meaning
@@ -24,12 +25,15 @@
 //              p50, p95, max} (null below two requests)}], timing {t1_5_pauses_requests,
 //              t1_5_pauses_responses, t3_5_responses_too_soon, t3_5_requests_too_soon,
 //              turnaround_glitches, turnaround_glitch_sent (framer-flagged glitches after
-//              its responses)}, timeout_fit [{timeout_ms, lost, lost_pct}]}}
+//              its responses), turnaround_glitch_sent_line_errors}, timeout_fit [{timeout_ms,
+//              lost, lost_pct}]}}
 //   timing    {t1_5_observable, t3_5_observable, t1_5_pauses, t3_5_violations,
 //              slave_turnaround_ms {min, p50, p95, p99, max, mean} | null,
-//              master_turnaround_ms {...} | null, turnaround_glitches
-//              {after_requests, after_responses, bytes_00, bytes_ff}, turnaround_glitch
-//              {records, bytes, from_master} (noise the framer flagged `turnaround_glitch`)}
+//              master_turnaround_ms {...} | null (across turnaround glitches),
+//              turnaround_glitches {after_requests, after_responses, bytes_00, bytes_ff,
+//              line_errors} (lone 0x00/0xFF the framer did not flag), turnaround_glitch
+//              {records, bytes, from_master, line_errors, from_master_line_errors} (noise
+//              the framer flagged `turnaround_glitch`; never the same records as the former)}
 //   findings  [{key, severity, slave (null), summary, cause, evidence {name: number},
 //              units {name: unit}}] ranked, most important first
 //   timeline  {start (s), bucket_s, frames [], requests [], responses [], crc_errors [],

@@ -92,7 +92,8 @@ void TextWriter::on_record(Record& record) {
     fmt::format_to(it, " {:>+9.3f}ms", to_millis(record.gap_before));
   }
   if (!is_frame) {
-    fmt::format_to(it, "  {:<4} {:>5}  {:<16} {} bytes: ", "noise", "", "", record.size);
+    fmt::format_to(it, "  {:<4} {:>5}  {:<16} {} {}: ", "noise", "", "", record.size,
+                   record.size == 1 ? "byte" : "bytes");
     append_hex_preview(buffer_, record.bytes());
   } else {
     fmt::format_to(it, "  {:<4} {:>5}  {:<16} ", role_short_name(record.role), record.slave(),

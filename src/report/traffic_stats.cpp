@@ -26,6 +26,20 @@ bool is_damaged(const Record& frame) {
          frame.issues.has(IssueId::kBreak) || frame.issues.has(IssueId::kOverrun);
 }
 
+void LineErrorCounts::add(std::uint8_t line_errors) {
+  ++records;
+  if ((line_errors & kParityError) != 0) ++parity;
+  if ((line_errors & kFramingError) != 0) ++framing;
+  if ((line_errors & kBreak) != 0) ++breaks;
+  if ((line_errors & kOverrun) != 0) ++overruns;
+}
+
+LineErrorCounts Totals::line_errors_beyond_glitches() const {
+  const LineErrorCounts& g = glitch_line_errors;
+  return LineErrorCounts{line_error_records - g.records, parity_errors - g.parity,
+                         framing_errors - g.framing, breaks - g.breaks, overruns - g.overruns};
+}
+
 double Totals::utilisation() const {
   const Nanos d = duration();
   if (d <= 0) return 0.0;
@@ -165,13 +179,33 @@ void TrafficStats::on_record(Record& r) {
     b.busy_ns += share * static_cast<double>(busy);
   });
 
-  if (r.line_errors != 0) count_line_errors(r);
+  // Noise is sorted first: line errors on a turnaround glitch are not a device's.
   if (r.kind == RecordKind::kNoise) {
-    count_noise(r);
+    const bool glitch = count_noise(r);
+    if (r.line_errors != 0) count_line_errors(r, glitch);
   } else {
+    if (r.line_errors != 0) count_line_errors(r, false);
     count_frame(r);
+    frame_end_ = r.t_end;
+    glitch_span_ = 0;
     if (point_source_ != nullptr) point_source_->extract(r, *this);
   }
+}
+
+// The silence from the last frame's end to `next`'s start, across the turnaround glitches in
+// between (as the framer measures t3.5): the glitch is the line settling while the turnaround
+// goes on, so the master's turnaround reads the same on the wire as at the UART pins.
+Nanos TrafficStats::silence_since_frame(const Record& next) const {
+  if (glitch_span_ == kUnknownTime || next.gap_before == kUnknownTime) return kUnknownTime;
+  return glitch_span_ + next.gap_before;
+}
+
+// A glitch extends the span from the last frame to its own end; a gap the timestamps blur
+// (or no frame before) leaves the span unknown.
+void TrafficStats::bridge_glitch(const Record& glitch) {
+  const bool known = glitch_span_ != kUnknownTime && glitch.gap_before != kUnknownTime &&
+                     frame_end_ != kUnknownTime;
+  glitch_span_ = known ? glitch.t_end - frame_end_ : kUnknownTime;
 }
 
 void TrafficStats::count_frame(const Record& r) {
@@ -222,8 +256,9 @@ void TrafficStats::count_request(const Record& r) {
   TrafficBucket& bucket = timeline_.at(r.t_start);
   ++totals_.requests;
   ++bucket.requests;
-  if (previous_ == Previous::kResponse && r.gap_before != kUnknownTime) {
-    master_turnaround_.add(r.gap_before);
+  const Nanos turnaround = silence_since_frame(r);
+  if (previous_ == Previous::kResponse && turnaround != kUnknownTime) {
+    master_turnaround_.add(turnaround);
   }
   previous_ = Previous::kRequest;
   const bool timed_out = r.issues.has(IssueId::kTimeout);
@@ -364,17 +399,27 @@ void TrafficStats::count_response(const Record& r) {
 // Every noise record is counted once in the totals and once more in exactly one of: the
 // framer's turnaround glitches, the 0x00/0xFF bytes after a turnaround, or the rest (the
 // `noise` finding). So the rest's records and bytes are counted over the same records.
-void TrafficStats::count_noise(const Record& r) {
+// Returns whether `r` is a turnaround glitch of either kind. A glitch keeps the turnaround it
+// sits in open (previous_ and the span from the frame before it); other noise ends it.
+bool TrafficStats::count_noise(const Record& r) {
   ++totals_.noise_records;
   totals_.noise_bytes += r.size;
   timeline_.at(r.t_start).noise_bytes += r.size;
+  bool glitch = true;
   if (r.issues.has(IssueId::kTurnaroundGlitch)) {
     count_turnaround_glitch(r);
   } else if (!count_glitch_after_turnaround(r)) {
     ++other_noise_records_;
     other_noise_bytes_ += r.size;
+    glitch = false;
   }
-  previous_ = Previous::kOther;
+  if (glitch) {
+    bridge_glitch(r);
+  } else {
+    previous_ = Previous::kOther;
+    glitch_span_ = kUnknownTime;
+  }
+  return glitch;
 }
 
 // The framer flags a lone byte that follows a frame within about a character: the driver of
@@ -383,10 +428,15 @@ void TrafficStats::count_noise(const Record& r) {
 void TrafficStats::count_turnaround_glitch(const Record& r) {
   ++totals_.turnaround_glitch_records;
   totals_.turnaround_glitch_bytes += r.size;
+  const bool line_error = r.line_errors != 0;
+  if (line_error) ++totals_.turnaround_glitch_line_errors;
   if (last_sender_) {
-    ++slave_mut(*last_sender_).turnaround_glitches_sent;
+    SlaveStats& s = slave_mut(*last_sender_);
+    ++s.turnaround_glitches_sent;
+    if (line_error) ++s.turnaround_glitch_line_errors;
   } else {
     ++master_glitches_;
+    if (line_error) ++master_glitch_line_errors_;
   }
 }
 
@@ -399,17 +449,25 @@ bool TrafficStats::count_glitch_after_turnaround(const Record& r) {
   if (!after_request && !after_response) return false;
   if (after_request) ++slave_mut(*awaiting_).glitches_after_request;
   if (after_response) ++glitches_after_response_;
+  if (r.line_errors != 0) ++glitch_line_errors_;
   for (const std::uint8_t b : r.bytes()) ++(b == 0 ? glitch_00_ : glitch_ff_);
   return true;
 }
 
-void TrafficStats::count_line_errors(const Record& r) {
+// Every line-error record counts in the totals and the timeline. One on a turnaround glitch
+// is the undriven bus read between two talkers: it blames no slave (that is the glitch
+// findings' business) and does not delimit the valid frames "between line errors".
+void TrafficStats::count_line_errors(const Record& r, bool glitch) {
   ++totals_.line_error_records;
   if ((r.line_errors & kParityError) != 0) ++totals_.parity_errors;
   if ((r.line_errors & kFramingError) != 0) ++totals_.framing_errors;
   if ((r.line_errors & kBreak) != 0) ++totals_.breaks;
   if ((r.line_errors & kOverrun) != 0) ++totals_.overruns;
   ++timeline_.at(r.t_start).line_errors;
+  if (glitch) {
+    totals_.glitch_line_errors.add(r.line_errors);
+    return;
+  }
   if (r.kind == RecordKind::kFrame && r.slave() != 0) {
     ++slave_mut(r.slave()).line_errors;
   } else if (awaiting_) {

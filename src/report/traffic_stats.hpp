@@ -40,6 +40,16 @@ std::string_view length_class_name(std::size_t cls);  // "<16", "16-63", ...
 // overrun on its bytes): a slave's receiver drops such a request instead of answering it.
 bool is_damaged(const Record& frame);
 
+// Records with parity/framing/break/overrun errors, and which errors they carry.
+struct LineErrorCounts {
+  std::uint64_t records = 0;
+  std::uint64_t parity = 0;
+  std::uint64_t framing = 0;
+  std::uint64_t breaks = 0;
+  std::uint64_t overruns = 0;
+  void add(std::uint8_t line_errors);  // one record's LineError bits
+};
+
 struct Totals {
   Nanos first_t = kUnknownTime;  // start of the first record
   Nanos last_t = kUnknownTime;   // end of the last record
@@ -62,20 +72,28 @@ struct Totals {
   // Noise records the framer flagged `turnaround_glitch`, and their bytes (part of noise_*).
   std::uint64_t turnaround_glitch_records = 0;
   std::uint64_t turnaround_glitch_bytes = 0;
-  std::uint64_t line_error_records = 0;  // records with any parity/framing/break/overrun
-  std::uint64_t parity_errors = 0;       // records with a parity error (and so on)
+  std::uint64_t turnaround_glitch_line_errors = 0;  // of those records, ones with line errors
+  std::uint64_t line_error_records = 0;             // records with any parity/framing/break/overrun
+  std::uint64_t parity_errors = 0;                  // records with a parity error (and so on)
   std::uint64_t framing_errors = 0;
   std::uint64_t breaks = 0;
   std::uint64_t overruns = 0;
+  // Of the line-error records above, those on turnaround glitches of either kind (flagged by
+  // the framer, or lone 0x00/0xFF bytes after a turnaround): the undriven line read while
+  // nobody holds it, not a device's line settings, so the line-error findings leave them out.
+  LineErrorCounts glitch_line_errors;
   std::uint64_t t15_frames = 0;
   std::uint64_t t35_frames = 0;
   double busy_ns = 0.0;  // bytes × character time
   std::array<std::uint64_t, kLengthClasses> frames_by_length{};
   std::array<std::uint64_t, kLengthClasses> crc_by_length{};
   // Line errors "with valid frames in between": CRC-valid frames seen after the first line
-  // error and before the last one.
+  // error and before the last one (line errors on turnaround glitches aside).
   std::uint64_t valid_frames_between_line_errors = 0;
 
+  // The line-error records that are not turnaround glitches: what can point at a device's
+  // baud rate or parity.
+  [[nodiscard]] LineErrorCounts line_errors_beyond_glitches() const;
   [[nodiscard]] Nanos duration() const { return first_t == kUnknownTime ? 0 : last_t - first_t; }
   [[nodiscard]] double utilisation() const;  // 0..1
 };
@@ -113,7 +131,9 @@ struct SlaveStats {
   std::uint64_t glitches_after_request = 0;
   // Noise flagged `turnaround_glitch` right after one of its responses: its own driver.
   std::uint64_t turnaround_glitches_sent = 0;
-  // Records with line errors while its answer was awaited, or carrying its address.
+  std::uint64_t turnaround_glitch_line_errors = 0;  // of those, the ones with line errors
+  // Records with line errors while its answer was awaited, or carrying its address; line
+  // errors on turnaround glitches are left out (Totals::glitch_line_errors).
   std::uint64_t line_errors = 0;
   std::array<std::uint64_t, kLengthClasses> frames_by_length{};
   std::array<std::uint64_t, kLengthClasses> crc_by_length{};
@@ -210,7 +230,8 @@ class TrafficStats : public RecordSink, private PointSink {
   [[nodiscard]] bool device_model_identified(std::uint8_t address) const;
   [[nodiscard]] bool device_exception(std::uint8_t address, std::uint8_t code) const;
   [[nodiscard]] std::string_view exception_name(std::uint8_t address, std::uint8_t code) const;
-  // Silence from a response's end to the master's next request (where observable).
+  // Silence from a response's end to the master's next request (where observable), turnaround
+  // glitches in between included.
   [[nodiscard]] const LogHistogram& master_turnaround() const { return master_turnaround_; }
   // Latencies of every slave together.
   [[nodiscard]] LogHistogram all_latencies() const;
@@ -218,10 +239,18 @@ class TrafficStats : public RecordSink, private PointSink {
   [[nodiscard]] std::uint64_t glitches_after_response() const { return glitches_after_response_; }
   [[nodiscard]] std::uint64_t glitch_bytes_00() const { return glitch_00_; }
   [[nodiscard]] std::uint64_t glitch_bytes_ff() const { return glitch_ff_; }
+  // Of those 0x00/0xFF glitches, the ones with line errors (a 0x00 with a framing error is
+  // the undriven line read as a break).
+  [[nodiscard]] std::uint64_t glitches_after_turnaround_line_errors() const {
+    return glitch_line_errors_;
+  }
   // Line-error records with nobody's answer awaited and no slave address to blame.
   [[nodiscard]] std::uint64_t line_errors_unattributed() const { return line_errors_unattributed_; }
   // Noise flagged `turnaround_glitch` right after a frame the master sent.
   [[nodiscard]] std::uint64_t master_turnaround_glitches() const { return master_glitches_; }
+  [[nodiscard]] std::uint64_t master_turnaround_glitch_line_errors() const {
+    return master_glitch_line_errors_;
+  }
   // Noise that neither kind of turnaround glitch explains: what the `noise` finding is about.
   // Records and bytes are counted over the same records, as in Totals::noise_*.
   [[nodiscard]] std::uint64_t unexplained_noise_records() const { return other_noise_records_; }
@@ -241,10 +270,12 @@ class TrafficStats : public RecordSink, private PointSink {
   void count_damaged_request(std::uint8_t slave);
   void note_unknown_frame(const Record& r);
   void settle_unknown_request(const Record& next);
-  void count_noise(const Record& r);
+  bool count_noise(const Record& r);
   void count_turnaround_glitch(const Record& r);
   bool count_glitch_after_turnaround(const Record& r);
-  void count_line_errors(const Record& r);
+  void count_line_errors(const Record& r, bool glitch);
+  [[nodiscard]] Nanos silence_since_frame(const Record& next) const;
+  void bridge_glitch(const Record& glitch);
 
   PointSource* point_source_;
   PointSink* also_;
@@ -260,9 +291,14 @@ class TrafficStats : public RecordSink, private PointSink {
   std::string point_key_;  // reused lookup key
   LogHistogram master_turnaround_;
 
-  // What the previous record was, for turnaround and attribution.
+  // What the previous record was, for turnaround and attribution. A turnaround glitch leaves
+  // it unchanged: the line settling inside a turnaround is not the next record of traffic.
   enum class Previous : std::uint8_t { kNothing, kRequest, kResponse, kOther };
   Previous previous_ = Previous::kNothing;
+  // End of the last frame, and the time from it to the end of the turnaround glitches after
+  // it (0 when a frame was the last record; kUnknownTime when a gap in between is blurred).
+  Nanos frame_end_ = kUnknownTime;
+  Nanos glitch_span_ = kUnknownTime;
   std::optional<std::uint8_t> awaiting_;         // slave whose answer is expected
   Nanos awaited_end_ = kUnknownTime;             // end of the request that set awaiting_
   bool awaited_timed_out_ = false;               // the tracker's verdict on that request
@@ -273,11 +309,13 @@ class TrafficStats : public RecordSink, private PointSink {
   // Who sent the last frame: a slave (its response) or, when empty, the master.
   std::optional<std::uint8_t> last_sender_;
   std::uint64_t master_glitches_ = 0;
+  std::uint64_t master_glitch_line_errors_ = 0;
   std::uint64_t other_noise_records_ = 0;
   std::uint64_t other_noise_bytes_ = 0;
   std::uint64_t glitches_after_response_ = 0;
   std::uint64_t glitch_00_ = 0;
   std::uint64_t glitch_ff_ = 0;
+  std::uint64_t glitch_line_errors_ = 0;
   std::uint64_t line_errors_unattributed_ = 0;
   std::uint64_t valid_since_line_error_ = 0;
   bool seen_line_error_ = false;

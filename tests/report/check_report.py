@@ -95,6 +95,26 @@ def check_json(report):
     if sum(timeline["timeouts"]) != totals["timeouts"]:
         fail("timeline timeouts do not add up to the total")
     check_noise_finding(report)
+    check_glitch_line_errors(report)
+
+
+def check_glitch_line_errors(report):
+    """Line errors on turnaround glitches are a part of the line-error records, and of the
+    glitch records of each kind."""
+    line_errors = report["totals"]["line_errors"]
+    timing = report["timing"]
+    flagged = timing["turnaround_glitch"]
+    heuristic = timing["turnaround_glitches"]
+    if flagged["line_errors"] > flagged["records"] or \
+            flagged["from_master_line_errors"] > flagged["from_master"]:
+        fail(f"more flagged glitches with line errors than glitches: {flagged}")
+    if heuristic["line_errors"] > heuristic["after_requests"] + heuristic["after_responses"]:
+        fail(f"more 0x00/0xFF glitches with line errors than glitches: {heuristic}")
+    if line_errors["on_turnaround_glitches"] != flagged["line_errors"] + heuristic["line_errors"]:
+        fail(f"line errors on glitches {line_errors['on_turnaround_glitches']} != flagged "
+             f"{flagged['line_errors']} + 0x00/0xFF {heuristic['line_errors']}")
+    if line_errors["on_turnaround_glitches"] > line_errors["records"]:
+        fail(f"more line errors on glitches than line-error records: {line_errors}")
 
 
 def check_noise_finding(report):
@@ -124,7 +144,9 @@ def expected_numbers(report):
             ("total-timeouts", str(t["timeouts"])),
             ("total-damaged-requests", str(t["damaged_requests"])),
             ("total-utilisation", f"{t['bus_utilisation_pct']:.2f}"),
-            ("total-slaves", str(t["slaves"]))]
+            ("total-slaves", str(t["slaves"])),
+            ("turnaround-glitch-line-errors",
+             str(report["timing"]["turnaround_glitch"]["line_errors"]))]
 
 
 def check_numbers(html, report, what):

@@ -533,13 +533,20 @@ class RecordFeed {
     stats_.on_record(r);
   }
 
+  // `line_errors`: LineError bits on its bytes, with the issues the framer gives them.
   void noise(const std::vector<std::uint8_t>& bytes, std::initializer_list<IssueId> issues = {},
-             Nanos silence = 20 * kMs) {
+             Nanos silence = 20 * kMs, std::uint8_t line_errors = 0) {
     Record r = make(RecordKind::kNoise, bytes, silence);
     r.issues.add(IssueId::kNoiseBytes);
     for (const IssueId id : issues) r.issues.add(id);
+    r.line_errors = line_errors;
+    if ((line_errors & (kParityError | kFramingError)) != 0) r.issues.add(IssueId::kLineError);
+    if ((line_errors & kBreak) != 0) r.issues.add(IssueId::kBreak);
     stats_.on_record(r);
   }
+
+  // The next record's silence happens but its timestamps do not show it (USB batching).
+  void blur_next_gap() { blur_next_ = true; }
 
   // The findings once the capture has ended.
   std::vector<Finding> finish() {
@@ -557,7 +564,8 @@ class RecordFeed {
     std::copy(bytes.begin(), bytes.end(), r.storage.begin());
     r.size = static_cast<std::uint16_t>(bytes.size());
     r.t_start = t_ + silence;
-    r.gap_before = silence;
+    r.gap_before = blur_next_ ? kUnknownTime : silence;
+    blur_next_ = false;
     r.t_end = r.t_start + static_cast<Nanos>(bytes.size()) * info_.line.char_time();
     t_ = r.t_end;
     return r;
@@ -566,6 +574,7 @@ class RecordFeed {
   TrafficStats stats_;
   CaptureInfo info_;
   Nanos t_ = kNanosPerSecond;
+  bool blur_next_ = false;
 };
 
 const Finding* find_finding(const std::vector<Finding>& findings, std::string_view key,
@@ -805,6 +814,240 @@ TEST(Findings, NoiseFindingCountsBytesAndStretchesOverTheSameRecords) {
             std::string::npos)
       << f->summary;
   EXPECT_EQ(evidence_of(*find_finding(findings, "turnaround_glitches"), "glitches"), 46.0);
+}
+
+// ---- Timing across turnaround glitches -------------------------------------------------
+
+// 9600 8E1, the feed's line: 11 bits a character.
+constexpr Nanos kCharTime = 1'145'833;
+
+TEST(TrafficStats, MasterTurnaroundIsMeasuredAcrossAFlaggedGlitch) {
+  RecordFeed feed;
+  ASSERT_EQ(feed.info().line.char_time(), kCharTime);
+  for (int c = 0; c < 4; ++c) {
+    feed.frame(read_request(1), Role::kRequest, {}, c == 0 ? 20 * kMs : 4 * kMs);
+    feed.frame(read_response(1), Role::kResponse, {}, 3 * kMs);
+    // 0.1 ms after the response its sender's driver lets go: one byte of glitch.
+    feed.noise({0xFE}, {IssueId::kTurnaroundGlitch}, 100 * kNanosPerMicro);
+  }
+  feed.frame(read_request(1), Role::kRequest, {}, 4 * kMs);
+  feed.finish();
+  const LogHistogram& h = feed.stats().master_turnaround();
+  // From the response's end: 0.1 ms of silence, the glitch's character, 4 ms of silence.
+  const Nanos expected = 100 * kNanosPerMicro + kCharTime + 4 * kMs;  // 5.245833 ms
+  EXPECT_EQ(expected, 5'245'833);
+  EXPECT_EQ(h.count(), 4U);
+  EXPECT_EQ(h.min(), expected);
+  EXPECT_EQ(h.max(), expected);
+}
+
+TEST(TrafficStats, MasterTurnaroundIsMeasuredAcrossAZeroByteAfterTheResponse) {
+  RecordFeed feed;
+  feed.frame(read_request(2), Role::kRequest);
+  feed.frame(read_response(2), Role::kResponse, {}, 3 * kMs);
+  feed.noise({0x00}, {}, 2 * kMs);  // not flagged (too late), but a 0x00 after a turnaround
+  feed.frame(read_request(2), Role::kRequest, {}, 5 * kMs);
+  feed.finish();
+  const LogHistogram& h = feed.stats().master_turnaround();
+  ASSERT_EQ(h.count(), 1U);
+  EXPECT_EQ(h.min(), 2 * kMs + kCharTime + 5 * kMs);  // 8.145833 ms
+  EXPECT_EQ(feed.stats().glitches_after_response(), 1U);
+}
+
+TEST(TrafficStats, OtherNoiseOrABlurredGapStillEndsTheTurnaround) {
+  RecordFeed feed;
+  // Interference between the response and the next request: not the master's turnaround.
+  feed.frame(read_request(3), Role::kRequest);
+  feed.frame(read_response(3), Role::kResponse, {}, 3 * kMs);
+  feed.noise({0x13, 0x37, 0x42}, {}, 2 * kMs);
+  feed.frame(read_request(3), Role::kRequest, {}, 5 * kMs);
+  // A glitch whose gap the timestamps blur: the span across it is unknown.
+  feed.frame(read_response(3), Role::kResponse, {}, 3 * kMs);
+  feed.blur_next_gap();
+  feed.noise({0xFE}, {IssueId::kTurnaroundGlitch}, 100 * kNanosPerMicro);
+  feed.frame(read_request(3), Role::kRequest, {}, 5 * kMs);
+  // A plain turnaround is still measured, from the gap alone.
+  feed.frame(read_response(3), Role::kResponse, {}, 3 * kMs);
+  feed.frame(read_request(3), Role::kRequest, {}, 6 * kMs);
+  feed.finish();
+  const LogHistogram& h = feed.stats().master_turnaround();
+  ASSERT_EQ(h.count(), 1U);
+  EXPECT_EQ(h.min(), 6 * kMs);
+}
+
+// Through the framer: the glitch is flagged there and t3.5 and the master's turnaround are
+// both measured across it, as on the same traffic without the glitch.
+TEST(TrafficStats, GlitchesDoNotChangeTheTimingOfTheTrafficAroundThem) {
+  auto traffic = [](bool glitches) {
+    BusBuilder bus;
+    Nanos idle = 20 * kMs;
+    for (int c = 0; c < 5; ++c) {
+      bus.add(read_request(1), idle);
+      if (glitches) bus.add({0x00}, 20 * kNanosPerMicro);
+      // 3 ms after the request's end, glitch or not: less than t3.5 (4.010 ms).
+      bus.add(read_response(1), glitches ? 3 * kMs - 20 * kNanosPerMicro - kCharTime : 3 * kMs);
+      if (glitches) bus.add({0xFE}, 150 * kNanosPerMicro);
+      idle = glitches ? 5 * kMs - 150 * kNanosPerMicro - kCharTime : 5 * kMs;
+    }
+    return analyse(bus);
+  };
+  const Analysis clean = traffic(false);
+  const Analysis wire = traffic(true);
+  EXPECT_EQ(wire.stats->totals().turnaround_glitch_records, 10U);
+  for (const Analysis* a : {&clean, &wire}) {
+    const LogHistogram& h = a->stats->master_turnaround();
+    EXPECT_EQ(h.count(), 4U);
+    EXPECT_EQ(h.min(), 5 * kMs);
+    EXPECT_EQ(h.max(), 5 * kMs);
+    const LogHistogram latency = a->stats->all_latencies();
+    EXPECT_EQ(latency.count(), 5U);
+    EXPECT_EQ(latency.min(), 3 * kMs);
+    EXPECT_EQ(latency.max(), 3 * kMs);
+    EXPECT_EQ(a->stats->slave(1)->t35_responses, 5U);
+    EXPECT_NE(a->find("responses_too_soon"), nullptr);
+  }
+}
+
+// ---- Line errors on turnaround glitches -------------------------------------------------
+
+// The sigrok wizmodbus bus capture in small: after each request the master's driver lets go
+// and the undriven bus reads as a 0x00 with a framing error until the slave drives it; after
+// each answer the slave's driver leaves a clean 0xFE.
+TEST(Findings, FramingErrorsOnTurnaroundGlitchesAreTheFloatingBusNotADevice) {
+  RecordFeed feed;
+  const Nanos within_a_character = feed.info().line.char_time() / 2;
+  for (int c = 0; c < 10; ++c) {
+    feed.frame(read_request(1), Role::kRequest, {}, 4 * kMs);
+    feed.noise({0x00}, {IssueId::kTurnaroundGlitch}, 20 * kNanosPerMicro, kFramingError);
+    feed.frame(read_response(1), Role::kResponse, {}, 2 * kMs);
+    feed.noise({0xFE}, {IssueId::kTurnaroundGlitch}, within_a_character);
+  }
+  const auto findings = feed.finish();
+  const TrafficStats& stats = feed.stats();
+  const Totals& t = stats.totals();
+  // The totals still show every line error the wire had...
+  EXPECT_EQ(t.line_error_records, 10U);
+  EXPECT_EQ(t.framing_errors, 10U);
+  // ...all of them on glitches, where they blame no slave.
+  EXPECT_EQ(t.glitch_line_errors.records, 10U);
+  EXPECT_EQ(t.glitch_line_errors.framing, 10U);
+  EXPECT_EQ(t.line_errors_beyond_glitches().records, 0U);
+  EXPECT_EQ(t.turnaround_glitch_line_errors, 10U);
+  EXPECT_EQ(stats.master_turnaround_glitch_line_errors(), 10U);
+  EXPECT_EQ(stats.slave(1)->turnaround_glitch_line_errors, 0U);
+  EXPECT_EQ(stats.slave(1)->line_errors, 0U);
+  EXPECT_EQ(stats.line_errors_unattributed(), 0U);
+  EXPECT_EQ(t.valid_frames_between_line_errors, 0U);
+  EXPECT_EQ(find_finding(findings, "line_errors_one_device"), nullptr);
+  EXPECT_EQ(find_finding(findings, "line_errors"), nullptr);
+
+  const Finding* master = find_finding(findings, "turnaround_glitch", std::nullopt);
+  ASSERT_NE(master, nullptr);
+  EXPECT_FALSE(master->slave.has_value());
+  EXPECT_EQ(evidence_of(*master, "glitches"), 10.0);
+  EXPECT_EQ(evidence_of(*master, "line_errors"), 10.0);
+  EXPECT_NE(master->summary.find("; 10 with a framing error or break"), std::string::npos)
+      << master->summary;
+  EXPECT_EQ(master->cause,
+            "a framing error or break at turnaround means the bus floats when the master's "
+            "driver lets go: nobody holds the line idle, so the fail-safe bias resistors are "
+            "missing (or too weak); the master's driver-enable timing may add to it");
+  // The slave's own glitches were clean: its driver, as before.
+  const Finding* slave = find_finding(findings, "turnaround_glitch", std::uint8_t{1});
+  ASSERT_NE(slave, nullptr);
+  EXPECT_EQ(evidence_of(*slave, "line_errors"), 0.0);
+  EXPECT_EQ(slave->cause,
+            "slave 1's RS-485 driver/transceiver glitches at turnaround (driver-enable timing or "
+            "missing bias/termination)");
+  // The master's turnaround is timed across the slave's glitch, from the response's end: half
+  // a character, the glitch's character, then 4 ms of silence.
+  const LogHistogram& h = stats.master_turnaround();
+  EXPECT_EQ(h.count(), 9U);
+  EXPECT_EQ(h.min(), within_a_character + kCharTime + 4 * kMs);
+}
+
+// A device really set to other line settings is still found beside glitch line errors, and
+// its numbers leave the glitches out.
+TEST(Findings, DeviceLineErrorsAreCountedWithoutTheGlitchOnes) {
+  RecordFeed feed;
+  for (int c = 0; c < 10; ++c) {
+    feed.frame(read_request(1), Role::kRequest);
+    feed.noise({0x00}, {IssueId::kTurnaroundGlitch}, 20 * kNanosPerMicro, kFramingError);
+    feed.frame(read_response(1), Role::kResponse, {}, 3 * kMs);
+    // Slave 6 answers at another parity: its answer is noise with parity errors.
+    feed.frame(read_request(6), Role::kRequest, {IssueId::kTimeout});
+    feed.noise({0x3F, 0x7E, 0x11}, {}, 5 * kMs, kParityError);
+  }
+  const auto findings = feed.finish();
+  const Totals& t = feed.stats().totals();
+  EXPECT_EQ(t.line_error_records, 20U);
+  EXPECT_EQ(t.line_errors_beyond_glitches().records, 10U);
+  EXPECT_EQ(t.line_errors_beyond_glitches().parity, 10U);
+  EXPECT_EQ(t.line_errors_beyond_glitches().framing, 0U);
+  EXPECT_EQ(feed.stats().slave(6)->line_errors, 10U);
+  EXPECT_EQ(feed.stats().slave(1)->line_errors, 0U);
+  // Valid frames between the first and the last device line error: 9 cycles of 3 frames.
+  EXPECT_EQ(t.valid_frames_between_line_errors, 27U);
+  const Finding* f = find_finding(findings, "line_errors_one_device");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->slave, std::uint8_t{6});
+  EXPECT_EQ(evidence_of(*f, "slave_line_errors"), 10.0);
+  EXPECT_EQ(evidence_of(*f, "line_error_records"), 10.0);
+  EXPECT_NE(f->summary.find("10 of 10 records with parity/framing errors (100%) fall where "
+                            "slave 6 answers, with 27 valid frames in between (besides 10 on "
+                            "turnaround glitches)"),
+            std::string::npos)
+      << f->summary;
+}
+
+// The framer's glitches and the 0x00/0xFF heuristic share out the glitch records: each record
+// is in one finding only, and together with the other noise they make up the noise records.
+TEST(Findings, BothTurnaroundGlitchFindingsCountDisjointRecords) {
+  RecordFeed feed;
+  for (int c = 0; c < 8; ++c) {
+    feed.frame(read_request(2), Role::kRequest, {}, 6 * kMs);
+    feed.noise({0x00}, {IssueId::kTurnaroundGlitch}, 20 * kNanosPerMicro, kFramingError);
+    feed.frame(read_response(2), Role::kResponse, {}, 3 * kMs);
+    // A late 0xFF after the answer, which the framer does not flag; every other one framed
+    // badly.
+    feed.noise({0xFF}, {}, 2 * kMs, c % 2 == 0 ? kFramingError : 0);
+    if (c < 2) feed.noise({0x13, 0x37, 0x42}, {}, 10 * kMs);  // interference
+  }
+  const auto findings = feed.finish();
+  const TrafficStats& stats = feed.stats();
+  const Totals& t = stats.totals();
+  EXPECT_EQ(t.noise_records, 18U);
+  EXPECT_EQ(t.turnaround_glitch_records, 8U);
+  EXPECT_EQ(stats.glitches_after_response(), 8U);
+  EXPECT_EQ(stats.unexplained_noise_records(), 2U);
+  EXPECT_EQ(t.turnaround_glitch_records + stats.glitches_after_response() +
+                stats.unexplained_noise_records(),
+            t.noise_records);
+  EXPECT_EQ(t.glitch_line_errors.records, 12U);
+  EXPECT_EQ(t.turnaround_glitch_line_errors, 8U);
+  EXPECT_EQ(stats.glitches_after_turnaround_line_errors(), 4U);
+
+  const Finding* flagged = find_finding(findings, "turnaround_glitch");
+  ASSERT_NE(flagged, nullptr);
+  EXPECT_EQ(evidence_of(*flagged, "glitches"), 8.0);
+  EXPECT_EQ(evidence_of(*flagged, "line_errors"), 8.0);
+  const Finding* heuristic = find_finding(findings, "turnaround_glitches");
+  ASSERT_NE(heuristic, nullptr);
+  EXPECT_EQ(evidence_of(*heuristic, "glitches"), 8.0);
+  EXPECT_EQ(evidence_of(*heuristic, "after_responses"), 8.0);
+  EXPECT_EQ(evidence_of(*heuristic, "bytes_ff"), 8.0);
+  EXPECT_EQ(evidence_of(*heuristic, "line_errors"), 4.0);
+  EXPECT_NE(heuristic->summary.find("besides the 8 lone bytes right after a frame "
+                                    "(turnaround_glitch), not counted here"),
+            std::string::npos)
+      << heuristic->summary;
+  EXPECT_NE(heuristic->cause.find("4 of them carry a framing error or break"), std::string::npos)
+      << heuristic->cause;
+  // No line error here is a device's; the interference is the noise finding's alone.
+  EXPECT_EQ(find_finding(findings, "line_errors_one_device"), nullptr);
+  EXPECT_EQ(find_finding(findings, "line_errors"), nullptr);
+  const Finding* noise = find_finding(findings, "noise");
+  ASSERT_EQ(noise, nullptr) << "6 bytes are below the noise finding's 8";
 }
 
 }  // namespace

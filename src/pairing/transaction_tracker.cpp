@@ -81,27 +81,22 @@ void TransactionTracker::handle_response(Record& frame) {
   if ((frame.function() & 0x7FU) != open_.function()) frame.issues.add(IssueId::kWrongFunction);
   frame.latency = frame.t_start - open_.t_end;
   if (released_) {
-    // Its request already went out timed out and unmatched: a late answer to it.
+    // Its request already went out timed out and unmatched: a late answer, with no txn.
     frame.issues.add(IssueId::kLate);
-    answered_ = true;
-    frame.request = &open_;
-    if (frame.crc_ok) frame.issues.merge(check_pdu(decode_pdu(frame, Role::kResponse)));
-    out_.on_record(frame);
-    frame.request = nullptr;
-    return;
+  } else {
+    if (frame.latency > config_.response_timeout) {
+      frame.issues.add(IssueId::kLate);
+      open_.issues.add(IssueId::kTimeout);
+    }
+    open_.txn = next_txn_++;
+    frame.txn = open_.txn;
+    if (held_count_ > 0) {
+      held_[0].txn = open_.txn;
+      held_[0].issues = open_.issues;
+      release_held();
+    }
   }
-  if (frame.latency > config_.response_timeout) {
-    frame.issues.add(IssueId::kLate);
-    open_.issues.add(IssueId::kTimeout);
-  }
-  open_.txn = next_txn_++;
-  frame.txn = open_.txn;
   answered_ = true;
-  if (held_count_ > 0) {
-    held_[0].txn = open_.txn;
-    held_[0].issues = open_.issues;
-    release_held();
-  }
   frame.request = &open_;
   if (frame.crc_ok) {
     frame.issues.merge(check_pdu(decode_pdu(frame, Role::kResponse)));

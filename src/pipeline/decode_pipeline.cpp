@@ -35,12 +35,13 @@ struct DecodePipeline::Impl {
     while (framers.size() <= port) add_port();
     return *framers[port];
   }
+  [[nodiscard]] FramerConfig framer_config() const {
+    return FramerConfig{options.line, std::max<Nanos>(options.timing_resolution, 0),
+                        options.per_byte_timing, options.learn_resolution};
+  }
   void add_port() {
     outputs.push_back(std::make_unique<PortOutput>(merge, framers.size()));
-    framers.push_back(std::make_unique<Framer>(
-        FramerConfig{options.line, std::max<Nanos>(options.timing_resolution, 0),
-                     options.per_byte_timing, options.learn_resolution},
-        *outputs.back()));
+    framers.push_back(std::make_unique<Framer>(framer_config(), *outputs.back()));
     merge.set_port_count(framers.size());
   }
 
@@ -164,8 +165,9 @@ void DecodePipeline::Impl::push_oversize_frame(std::span<const std::uint8_t> byt
   }
   SplitRelay relay(*this);
   // A framer holds a window of a few kB: made only for the rare oversize record.
-  auto framer_of_record = std::make_unique<Framer>(
-      FramerConfig{options.line, std::max<Nanos>(options.timing_resolution, 0), false}, relay);
+  FramerConfig config = framer_config();
+  config.per_byte_exact = false;  // one record's bytes: only its end time is known
+  auto framer_of_record = std::make_unique<Framer>(config, relay);
   Chunk chunk;
   chunk.t_end = t_end;
   chunk.bytes = bytes;

@@ -6,8 +6,8 @@
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/record_writer.hpp"
+#include "core/output_stream.hpp"
 #include "pipeline/replay.hpp"
-#include "report/output_stream.hpp"
 
 namespace rtu::app {
 namespace {

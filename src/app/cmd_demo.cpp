@@ -28,11 +28,11 @@
 #include "app/record_writer.hpp"
 #include "app/report_points.hpp"
 #include "app/run_report.hpp"
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
+#include "core/output_stream.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 #include "pipeline/replay.hpp"
-#include "report/output_stream.hpp"
 #include "serial/virtual_bus.hpp"
 
 namespace rtu::app {

@@ -8,7 +8,7 @@
 #include "app/command.hpp"
 #include "app/line_options.hpp"
 #include "capture/byte_output.hpp"
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 #include "pipeline/replay.hpp"
 #include "report/pcap_export.hpp"
 

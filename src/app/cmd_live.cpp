@@ -16,11 +16,11 @@
 #include "app/record_writer.hpp"
 #include "app/report_points.hpp"
 #include "app/run_report.hpp"
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
+#include "core/output_stream.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
-#include "report/output_stream.hpp"
 
 namespace rtu::app {
 namespace {

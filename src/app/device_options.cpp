@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 #include "dissect/map_loader.hpp"
 
 namespace rtu::app {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "app/command.hpp"
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu::app {
 namespace {

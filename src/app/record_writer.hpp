@@ -4,9 +4,9 @@
 #include <memory>
 #include <string>
 
+#include "core/output_stream.hpp"
 #include "framing/record.hpp"
 #include "report/frame_annotator.hpp"
-#include "report/output_stream.hpp"
 
 namespace rtu::app {
 

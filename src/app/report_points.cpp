@@ -1,6 +1,6 @@
 #include "app/report_points.hpp"
 
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 #include "dissect/map_identifier.hpp"
 
 namespace rtu::app {

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "diag/issue.hpp"
+#include "core/issue.hpp"
 #include "report/report_writers.hpp"
 
 namespace rtu::app {

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "app/report_points.hpp"
+#include "core/output_stream.hpp"
 #include "dissect/map_identifier.hpp"
 #include "pipeline/record_fanout.hpp"
 #include "report/findings.hpp"
-#include "report/output_stream.hpp"
 #include "report/traffic_stats.hpp"
 
 namespace rtu::app {

@@ -5,7 +5,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

@@ -9,10 +9,10 @@
 #include <string_view>
 #include <utility>
 
-#include "capture/input_error.hpp"
 #include "capture/pcap_import.hpp"
 #include "capture/saleae_reader.hpp"
 #include "capture/text_hex_reader.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cctype>
 
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
 #include "capture/rtac_serial.hpp"
 #include "capture/upper_pdu.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "capture/chunk_source.hpp"
-#include "capture/input_error.hpp"
 #include "capture/pcap_reader.hpp"
 #include "core/chunk.hpp"
+#include "core/input_error.hpp"
 #include "serial/line_settings.hpp"
 
 namespace rtu {

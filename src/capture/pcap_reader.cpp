@@ -8,8 +8,8 @@
 #include <limits>
 
 #include "capture/byte_order.hpp"
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

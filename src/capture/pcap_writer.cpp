@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 

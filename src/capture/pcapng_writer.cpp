@@ -4,8 +4,8 @@
 
 #include <stdexcept>
 
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 

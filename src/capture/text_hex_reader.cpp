@@ -6,7 +6,7 @@
 
 #include "capture/decimal_time.hpp"
 #include "capture/found_text.hpp"
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

@@ -9,7 +9,7 @@
 #include <span>
 #include <sstream>
 
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu::dissect {
 namespace {

@@ -4,8 +4,8 @@
 // two outputs say the same thing.
 #include <fmt/format.h>
 
+#include "core/json_writer.hpp"
 #include "dissect/register_decoder.hpp"
-#include "report/json_writer.hpp"
 
 namespace rtu::dissect {
 

@@ -12,7 +12,7 @@
 #include <optional>
 #include <vector>
 
-#include "diag/issue.hpp"
+#include "core/issue.hpp"
 #include "dissect/device_map.hpp"
 #include "framing/record.hpp"
 

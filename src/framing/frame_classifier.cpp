@@ -1,7 +1,7 @@
 #include "framing/frame_classifier.hpp"
 
 #include "core/crc16.hpp"
-#include "modbus/frame_shape.hpp"
+#include "framing/frame_shape.hpp"
 
 namespace rtu {
 

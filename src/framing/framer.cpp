@@ -5,9 +5,9 @@
 #include <span>
 
 #include "core/crc16.hpp"
+#include "core/function_codes.hpp"
 #include "framing/frame_classifier.hpp"
-#include "modbus/frame_shape.hpp"
-#include "modbus/function_codes.hpp"
+#include "framing/frame_shape.hpp"
 
 namespace rtu {
 namespace {

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <span>
 
+#include "core/issue.hpp"
 #include "core/time.hpp"
-#include "diag/issue.hpp"
 #include "framing/capture_info.hpp"
 
 namespace rtu {

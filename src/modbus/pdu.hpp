@@ -17,7 +17,7 @@
 #include <span>
 #include <variant>
 
-#include "diag/issue.hpp"
+#include "core/issue.hpp"
 #include "framing/record.hpp"
 #include "modbus/pdu_views.hpp"
 

@@ -2,7 +2,7 @@
 // §6 that a single frame, or a request with its response, can break.
 #include <algorithm>
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 #include "modbus/pdu.hpp"
 #include "modbus/pdu_names.hpp"
 

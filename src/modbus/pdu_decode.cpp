@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "core/byte_cursor.hpp"
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 #include "modbus/pdu.hpp"
 
 namespace rtu {

@@ -41,10 +41,10 @@
 // | 43 other MEI (0D ...)       | mei, data                                                   |
 #include <array>
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
+#include "core/json_writer.hpp"
 #include "modbus/pdu.hpp"
 #include "modbus/pdu_names.hpp"
-#include "report/json_writer.hpp"
 
 namespace rtu {
 namespace {

@@ -3,7 +3,7 @@
 // 0x%04X; long lists are cut after kMaxListed items with " …".
 #include <iterator>
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 #include "modbus/pdu.hpp"
 #include "modbus/pdu_names.hpp"
 

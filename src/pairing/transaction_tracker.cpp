@@ -1,6 +1,6 @@
 #include "pairing/transaction_tracker.hpp"
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 #include "modbus/pdu.hpp"
 
 namespace rtu {

@@ -3,8 +3,8 @@
 #include <optional>
 
 #include "capture/capture_warnings.hpp"
-#include "capture/input_error.hpp"
 #include "capture/pcap_import.hpp"
+#include "core/input_error.hpp"
 #include "framing/timing_estimator.hpp"
 #include "pipeline/line_warnings.hpp"
 

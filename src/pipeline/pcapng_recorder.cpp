@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "capture/byte_output.hpp"
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

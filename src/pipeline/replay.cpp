@@ -1,7 +1,7 @@
 #include "pipeline/replay.hpp"
 
-#include "capture/input_error.hpp"
 #include "capture/open_capture.hpp"
+#include "core/input_error.hpp"
 #include "framing/timing_estimator.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/pcap_replay.hpp"

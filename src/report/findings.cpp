@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 
 namespace rtu {
 

@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "diag/issue.hpp"
+#include "core/issue.hpp"
 #include "report/traffic_stats.hpp"
 
 namespace rtu {

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "core/json_writer.hpp"
 #include "framing/record.hpp"
-#include "report/json_writer.hpp"
 
 namespace rtu {
 

@@ -1,10 +1,10 @@
 #include "report/jsonl_writer.hpp"
 
+#include "core/function_codes.hpp"
+#include "core/json_writer.hpp"
 #include "core/time_format.hpp"
-#include "modbus/function_codes.hpp"
 #include "modbus/pdu.hpp"
 #include "report/frame_text.hpp"
-#include "report/json_writer.hpp"
 #include "report/timing_note.hpp"
 
 namespace rtu {

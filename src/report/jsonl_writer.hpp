@@ -10,9 +10,9 @@
 //   noise:  kind="noise", t, t_end, gap_ms, hex, issues
 #include <fmt/format.h>
 
+#include "core/output_stream.hpp"
 #include "framing/record.hpp"
 #include "report/frame_annotator.hpp"
-#include "report/output_stream.hpp"
 
 namespace rtu {
 

@@ -5,7 +5,7 @@
 // holds a comma or a quote (RFC 4180). Rows are buffered and written in large blocks.
 #include <fmt/format.h>
 
-#include "report/output_stream.hpp"
+#include "core/output_stream.hpp"
 #include "report/point_source.hpp"
 
 namespace rtu {

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 
 namespace rtu {
 

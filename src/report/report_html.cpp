@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/function_codes.hpp"
 #include "core/time_format.hpp"
-#include "modbus/function_codes.hpp"
 #include "report/report_writers.hpp"
 #include "report/svg_chart.hpp"
 #include "report/timing_note.hpp"

@@ -1,8 +1,8 @@
 #include <fmt/format.h>
 
+#include "core/function_codes.hpp"
+#include "core/json_writer.hpp"
 #include "core/time_format.hpp"
-#include "modbus/function_codes.hpp"
-#include "report/json_writer.hpp"
 #include "report/report_writers.hpp"
 #include "report/timing_note.hpp"
 

@@ -1,6 +1,6 @@
 #include <fmt/format.h>
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 #include "report/report_writers.hpp"
 #include "report/timing_note.hpp"
 

@@ -42,8 +42,8 @@
 //   points    [{slave, point, unit, samples, changes, first, min, max, last}]
 #include <vector>
 
+#include "core/output_stream.hpp"
 #include "report/findings.hpp"
-#include "report/output_stream.hpp"
 #include "report/traffic_stats.hpp"
 
 namespace rtu {

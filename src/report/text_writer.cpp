@@ -2,8 +2,8 @@
 
 #include <iterator>
 
+#include "core/function_codes.hpp"
 #include "core/time_format.hpp"
-#include "modbus/function_codes.hpp"
 #include "modbus/pdu.hpp"
 #include "report/frame_text.hpp"
 #include "report/timing_note.hpp"

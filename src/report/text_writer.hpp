@@ -5,9 +5,9 @@
 //   12.345678901   +50.123ms  req    1  read holding     0x0032 ×3
 #include <fmt/format.h>
 
+#include "core/output_stream.hpp"
 #include "framing/record.hpp"
 #include "report/frame_annotator.hpp"
-#include "report/output_stream.hpp"
 
 namespace rtu {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/chunk.hpp"
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 
 namespace rtu {
 

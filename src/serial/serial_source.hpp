@@ -21,8 +21,8 @@
 #include <system_error>
 #include <vector>
 
-#include "capture/input_error.hpp"
 #include "core/chunk.hpp"
+#include "core/input_error.hpp"
 #include "serial/clock.hpp"
 #include "serial/line_settings.hpp"
 #include "serial/mark_decoder.hpp"

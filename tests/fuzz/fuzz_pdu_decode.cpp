@@ -28,8 +28,8 @@
 #define ASAN_UNPOISON_MEMORY_REGION(addr, size) ((void)(addr), (void)(size))
 #endif
 
+#include "core/json_writer.hpp"
 #include "modbus/pdu.hpp"
-#include "report/json_writer.hpp"
 
 namespace {
 

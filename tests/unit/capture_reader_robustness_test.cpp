@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "capture/input_error.hpp"
 #include "capture/open_capture.hpp"
 #include "capture_test_files.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

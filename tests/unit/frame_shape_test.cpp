@@ -1,4 +1,4 @@
-#include "modbus/frame_shape.hpp"
+#include "framing/frame_shape.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,9 +5,9 @@
 #include <iterator>
 #include <string>
 
+#include "core/output_stream.hpp"
 #include "pdu_test_support.hpp"
 #include "report/jsonl_writer.hpp"
-#include "report/output_stream.hpp"
 
 namespace rtu {
 namespace {

@@ -4,10 +4,10 @@
 
 #include <string>
 
-#include "capture/input_error.hpp"
 #include "capture/saleae_reader.hpp"
 #include "capture/text_hex_reader.hpp"
 #include "capture_test_files.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

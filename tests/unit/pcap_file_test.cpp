@@ -14,11 +14,11 @@
 
 #include "capture/byte_order.hpp"
 #include "capture/byte_output.hpp"
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
 #include "capture/pcap_reader.hpp"
 #include "capture/pcap_writer.hpp"
 #include "capture/pcapng_writer.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

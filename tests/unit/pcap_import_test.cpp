@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "capture/input_error.hpp"
 #include "capture/pcap_format.hpp"
 #include "capture/pcapng_writer.hpp"
 #include "capture/rtac_serial.hpp"
 #include "capture/upper_pdu.hpp"
+#include "core/input_error.hpp"
 #include "report/pcap_export.hpp"
 
 namespace rtu {

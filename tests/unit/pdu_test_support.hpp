@@ -7,9 +7,9 @@
 #include <string_view>
 
 #include "core/crc16.hpp"
+#include "core/json_writer.hpp"
 #include "framing/record.hpp"
 #include "modbus/pdu.hpp"
-#include "report/json_writer.hpp"
 
 namespace rtu::test {
 

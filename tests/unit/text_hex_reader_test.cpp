@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "capture/input_error.hpp"
 #include "capture_test_files.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 namespace {

@@ -1,9 +1,9 @@
-#include "report/output_stream.hpp"
+#include "core/output_stream.hpp"
 
 #include <cerrno>
 #include <cstring>
 
-#include "capture/input_error.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 

@@ -1,4 +1,4 @@
-#include "diag/issue.hpp"
+#include "core/issue.hpp"
 
 #include <array>
 
@@ -6,17 +6,22 @@ namespace rtu {
 namespace {
 
 constexpr std::array kCatalogue = {
-#define RTU_ISSUE(id, key, severity, summary) IssueInfo{IssueId::id, key, Severity::severity, summary},
-#include "diag/issues.def"
+#define RTU_ISSUE(id, key, severity, summary) \
+  IssueInfo{IssueId::id, key, Severity::severity, summary},
+#include "core/issues.def"
 #undef RTU_ISSUE
 };
 static_assert(kCatalogue.size() == static_cast<std::size_t>(IssueId::kCount));
 
 }  // namespace
 
-std::span<const IssueInfo> issue_catalogue() { return kCatalogue; }
+std::span<const IssueInfo> issue_catalogue() {
+  return kCatalogue;
+}
 
-const IssueInfo& issue_info(IssueId id) { return kCatalogue.at(static_cast<std::size_t>(id)); }
+const IssueInfo& issue_info(IssueId id) {
+  return kCatalogue.at(static_cast<std::size_t>(id));
+}
 
 std::optional<IssueId> issue_from_key(std::string_view key) {
   for (const auto& info : kCatalogue) {

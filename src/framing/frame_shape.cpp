@@ -1,6 +1,6 @@
-#include "modbus/frame_shape.hpp"
+#include "framing/frame_shape.hpp"
 
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 
 namespace rtu {
 namespace {

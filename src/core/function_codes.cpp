@@ -1,4 +1,4 @@
-#include "modbus/function_codes.hpp"
+#include "core/function_codes.hpp"
 
 namespace rtu {
 namespace {
@@ -40,7 +40,9 @@ const FunctionNames* find_function(std::uint8_t function) {
 
 }  // namespace
 
-bool is_public_function(std::uint8_t function) { return find_function(function) != nullptr; }
+bool is_public_function(std::uint8_t function) {
+  return find_function(function) != nullptr;
+}
 
 bool is_user_defined_function(std::uint8_t function) {
   return (function >= 65 && function <= 72) || (function >= 100 && function <= 110);

@@ -12,7 +12,7 @@ enum class Severity : std::uint8_t { kInfo, kWarning, kError };
 
 enum class IssueId : std::uint8_t {
 #define RTU_ISSUE(id, key, severity, summary) id,
-#include "diag/issues.def"
+#include "core/issues.def"
 #undef RTU_ISSUE
   kCount
 };

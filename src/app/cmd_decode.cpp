@@ -7,6 +7,7 @@
 #include "app/line_options.hpp"
 #include "app/record_writer.hpp"
 #include "core/output_stream.hpp"
+#include "dissect/device_stage.hpp"
 #include "pipeline/replay.hpp"
 
 namespace rtu::app {
@@ -33,10 +34,11 @@ void setup_decode(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build(options);
-    FrameAnnotator* annotator = devices ? &devices->annotator : nullptr;
     OutputStream out(args->output);
-    const auto writer = make_record_writer(args->format, out, annotator, false);
-    replay_capture(args->file, options, *writer);
+    const auto writer = make_record_writer(args->format, out, false);
+    dissect::DeviceTable no_devices;  // plain Modbus when no slave is named
+    dissect::DeviceStage stage(devices ? devices->table : no_devices, *writer);
+    replay_capture(args->file, options, stage);
     exit_code = 0;
   });
 }

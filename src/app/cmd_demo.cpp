@@ -26,10 +26,10 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/record_writer.hpp"
-#include "app/report_points.hpp"
 #include "app/run_report.hpp"
 #include "core/input_error.hpp"
 #include "core/output_stream.hpp"
+#include "dissect/device_stage.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 #include "pipeline/replay.hpp"
@@ -124,9 +124,7 @@ void run_demo(DemoArgs& args, int& exit_code) {
     }
   }
   ReplayOptions replay;
-  const auto points = build_report_points(args.devices, replay);
-  const bool named = !args.devices.devices.empty() || !args.devices.bus_file.empty();
-  FrameAnnotator* annotator = named ? &points->maps->annotator : nullptr;
+  const auto devices = args.devices.build_with_maps(replay);
   BurstCollector collector;
   const CaptureInfo traffic_info = replay_capture(traffic, replay, collector);
   if (collector.bursts.empty()) throw InputError(fmt::format("{}: no traffic to play", traffic));
@@ -142,15 +140,17 @@ void run_demo(DemoArgs& args, int& exit_code) {
   bus.start();
 
   OutputStream out("-");
-  const auto writer = make_record_writer(args.format, out, annotator, true);
+  const auto writer = make_record_writer(args.format, out, true);
   std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) recorder = std::make_unique<PcapngRecorder>(args.write_path);
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!args.report.empty()) report_out.emplace(args.report);
-  RunReport report(*points);
+  RunReport report(*devices);
   RecordFanout sinks;
   sinks.add(*writer);
   sinks.add(report.sink());
+  // One decode per frame: the screen and the report read the same device stage.
+  dissect::DeviceStage stage(devices->table, sinks, true);
 
   LiveOptions options;
   options.ports = {bus.paths()[2]};
@@ -158,7 +158,7 @@ void run_demo(DemoArgs& args, int& exit_code) {
   options.response_timeout = replay.response_timeout;
   boost::asio::io_context io;
   SystemClock clock;
-  LiveCapture capture(io, clock, options, sinks, recorder.get(),
+  LiveCapture capture(io, clock, options, stage, recorder.get(),
                       [](const std::string& m) { fmt::print(stderr, "rtuscope demo: {}\n", m); });
   capture.start();
 

@@ -14,10 +14,10 @@
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/record_writer.hpp"
-#include "app/report_points.hpp"
 #include "app/run_report.hpp"
 #include "core/input_error.hpp"
 #include "core/output_stream.hpp"
+#include "dissect/device_stage.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -58,9 +58,7 @@ void print_summary(const LiveSummary& s) {
 void run_live(const LiveArgs& args, int& exit_code) {
   // Line settings: the command line, else the --bus file, else Modbus's 9600 8E1.
   ReplayOptions line = args.line.to_replay_options();
-  const auto points = build_report_points(args.devices, line);
-  const bool named = !args.devices.devices.empty() || !args.devices.bus_file.empty();
-  FrameAnnotator* annotator = named ? &points->maps->annotator : nullptr;
+  const auto devices = args.devices.build_with_maps(line);
   LiveOptions options;
   options.ports = args.ports;
   options.line.baud = line.overrides.baud.value_or(options.line.baud);
@@ -79,7 +77,7 @@ void run_live(const LiveArgs& args, int& exit_code) {
   }
 
   OutputStream out(args.output);
-  const auto writer = make_record_writer(args.format, out, annotator, true);
+  const auto writer = make_record_writer(args.format, out, true);
 
   std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) {
@@ -98,13 +96,15 @@ void run_live(const LiveArgs& args, int& exit_code) {
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!args.report.empty()) {
     report_out.emplace(args.report);
-    report.emplace(*points);
+    report.emplace(*devices);
     sinks.add(report->sink());
   }
+  // One decode per frame: the screen and the report read the same device stage.
+  dissect::DeviceStage stage(devices->table, sinks, report.has_value());
 
   boost::asio::io_context io;
   SystemClock clock;
-  LiveCapture capture(io, clock, options, sinks, recorder.get(),
+  LiveCapture capture(io, clock, options, stage, recorder.get(),
                       [](const std::string& m) { fmt::print(stderr, "rtuscope: {}\n", m); });
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int) {

@@ -5,9 +5,11 @@
 #include <string>
 
 #include "app/command.hpp"
+#include "app/identify_models.hpp"
 #include "app/line_options.hpp"
-#include "app/report_points.hpp"
 #include "core/output_stream.hpp"
+#include "dissect/device_stage.hpp"
+#include "pipeline/record_fanout.hpp"
 #include "pipeline/replay.hpp"
 #include "report/findings.hpp"
 #include "report/point_csv_writer.hpp"
@@ -45,22 +47,25 @@ void setup_report(CLI::App& app, int& exit_code) {
                 "the file); they keep raw registers");
   cmd->callback([args, &exit_code] {
     ReplayOptions options = args->line.to_replay_options();
+    const auto devices = args->devices.build_with_maps(options);
     // Slaves no option names are identified from a first look at the whole capture.
-    TrafficFeed identify;
     if (!args->no_identify) {
-      identify = [&](const ReplayOptions& o, RecordSink& sink) {
+      identify_models(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
         replay_capture(args->file, o, sink);
-      };
+      });
     }
-    const auto points = build_report_points(args->devices, options, identify);
+    TrafficStats stats(&devices->table);
+    RecordFanout sinks;
+    sinks.add(stats);
     std::optional<OutputStream> csv_out;
     std::optional<PointCsvWriter> csv;
     if (!args->csv.empty()) {
       csv_out.emplace(args->csv);
       csv.emplace(*csv_out);
+      sinks.add(*csv);
     }
-    TrafficStats stats(&points->source, csv ? &*csv : nullptr);
-    replay_capture(args->file, options, stats);
+    dissect::DeviceStage stage(devices->table, sinks, true);
+    replay_capture(args->file, options, stage);
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);
     OutputStream out(args->output);

@@ -85,9 +85,14 @@ std::unique_ptr<DeviceSetup> DeviceOptions::build(ReplayOptions& options) const 
       throw InputError(fmt::format("slave {}: no device map for model '{}' (known: {})", s.slave,
                                    s.model, setup->library.model_list()));
     }
-    setup->annotator.assign(s.slave, *map);
+    setup->table.assign(s.slave, *map, dissect::ModelOrigin::kConfigured);
   }
   return setup;
+}
+
+std::unique_ptr<DeviceSetup> DeviceOptions::build_with_maps(ReplayOptions& options) const {
+  auto setup = build(options);
+  return setup ? std::move(setup) : load_maps(dissector_dirs);
 }
 
 }  // namespace rtu::app

@@ -7,17 +7,17 @@
 #include <string>
 #include <vector>
 
-#include "dissect/device_annotator.hpp"
+#include "dissect/device_table.hpp"
 #include "dissect/map_library.hpp"
 #include "pipeline/replay.hpp"
 
 namespace rtu::app {
 
-// The maps and the annotator that uses them, kept together (the annotator points into the
-// library).
+// The maps and the table of which slave is which model, kept together (the table points
+// into the library).
 struct DeviceSetup {
   dissect::MapLibrary library;
-  dissect::DeviceAnnotator annotator;
+  dissect::DeviceTable table;
 };
 
 struct DeviceOptions {
@@ -34,6 +34,9 @@ struct DeviceOptions {
   // open, and assigns models to slaves. Null when no slave is named: plain Modbus output.
   // Throws InputError for a bad ADDR=MODEL, an unknown model or a bad bus file.
   [[nodiscard]] std::unique_ptr<DeviceSetup> build(ReplayOptions& options) const;
+  // As build(), but with the maps loaded even when no slave is named: reports name the slaves
+  // they identify.
+  [[nodiscard]] std::unique_ptr<DeviceSetup> build_with_maps(ReplayOptions& options) const;
 
  private:
   CLI::App* command_ = nullptr;

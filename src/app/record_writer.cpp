@@ -6,9 +6,9 @@
 namespace rtu::app {
 
 std::unique_ptr<RecordSink> make_record_writer(const std::string& format, OutputStream& out,
-                                               FrameAnnotator* annotator, bool flush_each) {
-  if (format == "jsonl") return std::make_unique<JsonlWriter>(out, annotator, flush_each);
-  return std::make_unique<TextWriter>(out, annotator, flush_each);
+                                               bool flush_each) {
+  if (format == "jsonl") return std::make_unique<JsonlWriter>(out, flush_each);
+  return std::make_unique<TextWriter>(out, flush_each);
 }
 
 }  // namespace rtu::app

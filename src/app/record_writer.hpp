@@ -6,15 +6,13 @@
 
 #include "core/output_stream.hpp"
 #include "framing/record.hpp"
-#include "report/frame_annotator.hpp"
 
 namespace rtu::app {
 
-// `format` is "jsonl" or "text". `annotator` (may be null) names device registers.
-// `flush_each`: every record reaches `out` at once (live output), else buffered.
+// `format` is "jsonl" or "text". Device registers are shown where a device stage before the
+// writer named them. `flush_each`: every record reaches `out` at once (live output), else
+// buffered.
 [[nodiscard]] std::unique_ptr<RecordSink> make_record_writer(const std::string& format,
-                                                             OutputStream& out,
-                                                             FrameAnnotator* annotator,
-                                                             bool flush_each);
+                                                             OutputStream& out, bool flush_each);
 
 }  // namespace rtu::app

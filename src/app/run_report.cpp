@@ -7,14 +7,14 @@
 
 namespace rtu::app {
 
-RunReport::RunReport(ReportPoints& points)
-    : points_(points), stats_(&points.source), identifier_(points.maps->library) {
+RunReport::RunReport(DeviceSetup& devices)
+    : devices_(devices), stats_(&devices.table), identifier_(devices.library) {
   fanout_.add(stats_);
   fanout_.add(identifier_);
 }
 
 void RunReport::finish() {
-  points_.source.assign_identified(identifier_.ranking());  // configured slaves keep theirs
+  devices_.table.assign_identified(identifier_.ranking());  // configured slaves keep theirs
   findings_ = find_problems(stats_);
 }
 

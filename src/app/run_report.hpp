@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "app/report_points.hpp"
+#include "app/device_options.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/map_identifier.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -20,10 +20,11 @@ namespace rtu::app {
 
 class RunReport {
  public:
-  // `points` (from build_report_points) must outlive the report.
-  explicit RunReport(ReportPoints& points);
+  // `devices` must outlive the report; its table is the one the run's device stage uses.
+  explicit RunReport(DeviceSetup& devices);
 
-  // Where the run's records go (statistics and identification).
+  // Where the run's records go, after a device stage that collects values (statistics and
+  // identification).
   [[nodiscard]] RecordSink& sink() { return fanout_; }
 
   // Identifies unnamed slaves and ranks the findings; call once, after the run stopped.
@@ -36,7 +37,7 @@ class RunReport {
   void print_findings(std::FILE* out, std::size_t limit) const;
 
  private:
-  ReportPoints& points_;
+  DeviceSetup& devices_;
   TrafficStats stats_;
   dissect::MapIdentifier identifier_;
   RecordFanout fanout_;

@@ -1,6 +1,8 @@
 #pragma once
 // Issue ids and sets. A *violation* (bytes that are not a frame) becomes a noise record;
 // an issue is a *weird* on a record that is still shown. Keys come from issues.def only.
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -50,6 +52,31 @@ class IssueSet {
  private:
   static std::uint64_t bit(IssueId id) { return std::uint64_t{1} << static_cast<unsigned>(id); }
   std::uint64_t bits_ = 0;
+};
+
+// How many records carried each issue: what reports count, one counter per key of the
+// catalogue, so a new key is counted everywhere without a line of its own.
+class IssueCounts {
+ public:
+  void add(IssueSet issues) {
+    issues.for_each([this](IssueId id) { ++counts_[static_cast<unsigned>(id)]; });
+  }
+  void merge(const IssueCounts& other) {
+    for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
+  }
+  [[nodiscard]] std::uint64_t operator[](IssueId id) const {
+    return counts_[static_cast<unsigned>(id)];
+  }
+  // Calls fn(id, count) for every issue counted at least once, in catalogue order.
+  template <typename Fn>
+  void for_each(Fn&& fn) const {
+    for (unsigned i = 0; i < counts_.size(); ++i) {
+      if (counts_[i] != 0) fn(static_cast<IssueId>(i), counts_[i]);
+    }
+  }
+
+ private:
+  std::array<std::uint64_t, static_cast<unsigned>(IssueId::kCount)> counts_{};
 };
 
 }  // namespace rtu

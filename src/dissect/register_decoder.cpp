@@ -341,6 +341,8 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
     decode_write_request(map, *space, state, req, scratch_);
     scratch_.map = &map;
     apply_learning(scratch_, state);
+    apply_scale_by(scratch_, state);
+    out.confirmed.assign(scratch_.points.begin(), scratch_.points.end());
     scratch_.clear();
   }
 }

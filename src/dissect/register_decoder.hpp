@@ -42,11 +42,15 @@ struct Decoded {
   const DeviceMap* map = nullptr;
   const Space* space = nullptr;
   std::vector<DecodedPoint> points;  // in address order
+  // On the normal response to a write: the values that write set, now confirmed (decoded
+  // from the request, scaled with what the write itself taught). Empty otherwise.
+  std::vector<DecodedPoint> confirmed;
   IssueSet issues;
   void clear() {
     map = nullptr;
     space = nullptr;
     points.clear();
+    confirmed.clear();
     issues = IssueSet{};
   }
 };

@@ -12,6 +12,10 @@
 
 namespace rtu {
 
+namespace dissect {
+struct DeviceReading;  // what the device stage adds; declared only, so no include runs upward
+}
+
 inline constexpr std::size_t kMaxAdu = 256;  // MODBUS over Serial Line §2.5.1
 
 enum class Role : std::uint8_t { kUnknown, kRequest, kResponse };
@@ -47,6 +51,11 @@ struct Record {
   Nanos latency = kUnknownTime;  // response only: request end → response start
   // For a response: its request, valid only during RecordSink::on_record. Else null.
   const Record* request = nullptr;
+
+  // Filled by the device stage (dissect/device_stage.hpp) for the sinks after it, valid only
+  // during their on_record: the slave's map, the decoded points, values. Null for noise and
+  // where no device stage runs.
+  const dissect::DeviceReading* device = nullptr;
 
   [[nodiscard]] std::span<const std::uint8_t> bytes() const { return {storage.data(), size}; }
   [[nodiscard]] std::uint8_t slave() const { return size > 0 ? storage[0] : 0; }

@@ -59,25 +59,28 @@ void for_each_slave(const TrafficStats& stats, Fn&& fn) {
 // least 3 bad frames, 60% of all bad frames, and an error rate 3× that of the other slaves.
 void crc_rules(const TrafficStats& stats, Builder& b) {
   const Totals& t = stats.totals();
-  if (t.crc_errors < 3) return;
+  if (t.issues[IssueId::kCrc] < 3) return;
   bool explained = false;
   for_each_slave(stats, [&](std::uint8_t a, const SlaveStats& s) {
-    if (s.crc_errors < 3 || ratio(s.crc_errors, t.crc_errors) < 0.6) return;
-    const double rate = ratio(s.crc_errors, s.frames);
-    const double others = ratio(t.crc_errors - s.crc_errors, t.frames - s.frames);
+    if (s.issues[IssueId::kCrc] < 3 ||
+        ratio(s.issues[IssueId::kCrc], t.issues[IssueId::kCrc]) < 0.6)
+      return;
+    const double rate = ratio(s.issues[IssueId::kCrc], s.frames);
+    const double others =
+        ratio(t.issues[IssueId::kCrc] - s.issues[IssueId::kCrc], t.frames - s.frames);
     if (others > 0.0 && rate < 3.0 * others) return;
     explained = true;
     Finding& f = b.add("crc_errors_one_slave", Severity::kError, a, rate);
     f.summary = fmt::format(
         "{} of {} CRC errors ({}) are on slave {}'s frames: {} of its frames fail, {} of the "
         "other slaves' frames",
-        s.crc_errors, t.crc_errors, pct(ratio(s.crc_errors, t.crc_errors)), a, pct(rate),
-        pct(others));
+        s.issues[IssueId::kCrc], t.issues[IssueId::kCrc],
+        pct(ratio(s.issues[IssueId::kCrc], t.issues[IssueId::kCrc])), a, pct(rate), pct(others));
     f.cause = fmt::format(
         "cabling, termination or bias on slave {}'s drop, or its transmitter, corrupts its "
         "frames",
         a);
-    ev(f, "slave_crc_errors", static_cast<double>(s.crc_errors));
+    ev(f, "slave_crc_errors", static_cast<double>(s.issues[IssueId::kCrc]));
     ev(f, "slave_frames", static_cast<double>(s.frames));
     ev(f, "slave_error_rate", rate * 100.0, "%");
     ev(f, "other_error_rate", others * 100.0, "%");
@@ -104,12 +107,12 @@ void crc_rules(const TrafficStats& stats, Builder& b) {
   }
 
   if (!explained) {
-    const double rate = ratio(t.crc_errors, t.frames);
+    const double rate = ratio(t.issues[IssueId::kCrc], t.frames);
     Finding& f = b.add("crc_errors_spread", Severity::kWarning, std::nullopt, rate);
     f.summary = fmt::format("{} CRC errors in {} frames ({}), spread over slaves and lengths",
-                            t.crc_errors, t.frames, pct(rate));
+                            t.issues[IssueId::kCrc], t.frames, pct(rate));
     f.cause = "interference on the whole bus: check shield grounding, termination and bias";
-    ev(f, "crc_errors", static_cast<double>(t.crc_errors));
+    ev(f, "crc_errors", static_cast<double>(t.issues[IssueId::kCrc]));
     ev(f, "frames", static_cast<double>(t.frames));
     ev(f, "error_rate", rate * 100.0, "%");
   }
@@ -308,15 +311,15 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
       ev(f, "late_answers", static_cast<double>(s.after_next_request));
       ev(f, "timeouts", static_cast<double>(s.timeouts));
       if (!s.latency.empty()) ev(f, "latency_max", ms(s.latency.max()), "ms");
-    } else if (s.unsolicited >= 2) {
-      const double share = ratio(s.unsolicited, s.responses);
+    } else if (s.issues[IssueId::kUnsolicited] >= 2) {
+      const double share = ratio(s.issues[IssueId::kUnsolicited], s.responses);
       Finding& f = b.add("unsolicited_responses", Severity::kWarning, a, share);
       f.summary = fmt::format("{} responses from slave {} answered no request seen on the bus",
-                              s.unsolicited, a);
+                              s.issues[IssueId::kUnsolicited], a);
       f.cause =
           "a second master (or a device answering for another address) talks on the bus, or "
           "the capture missed the requests";
-      ev(f, "unsolicited", static_cast<double>(s.unsolicited));
+      ev(f, "unsolicited", static_cast<double>(s.issues[IssueId::kUnsolicited]));
     }
 
     // Not answering at all, or sometimes: ≥ 3 timeouts. Shares are of the intact requests,
@@ -341,7 +344,7 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
         Finding& f = b.add("slave_timeouts", Severity::kWarning, a, share);
         f.summary = fmt::format("slave {} missed {} of its {} {}requests ({})", a, s.timeouts,
                                 s.intact_requests, requests, pct(share));
-        f.cause = s.late > 0 || s.after_next_request > 0
+        f.cause = s.issues[IssueId::kLate] > 0 || s.after_next_request > 0
                       ? "its answers are sometimes slower than the master's timeout"
                       : "requests or answers are lost on the line (noise), or the device is "
                         "busy and drops requests";
@@ -353,15 +356,16 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
 
     // Timeout fitting from the latencies of the answers that did arrive (≥ 10 of them),
     // where the tail reaches past 100 ms or the master did time out.
-    if (s.latency.count() >= 10 &&
-        (s.lost_at[1] > 0 || s.late > 0 || s.timeouts > 0 || s.after_next_request > 0)) {
+    if (s.latency.count() >= 10 && (s.lost_at[1] > 0 || s.issues[IssueId::kLate] > 0 ||
+                                    s.timeouts > 0 || s.after_next_request > 0)) {
       std::size_t none = 0;
       while (none < kCandidateTimeoutsMs.size() && s.lost_at[none] > 0) ++none;
       const std::uint64_t n = s.latency.count();
       Finding& f =
           b.add("timeout_fit",
-                s.late > 0 || s.after_next_request > 0 ? Severity::kWarning : Severity::kInfo, a,
-                ratio(s.late, n));
+                s.issues[IssueId::kLate] > 0 || s.after_next_request > 0 ? Severity::kWarning
+                                                                         : Severity::kInfo,
+                a, ratio(s.issues[IssueId::kLate], n));
       const std::string tail = fmt::format("latency p99 {:.1f} ms, max {:.1f} ms over {} responses",
                                            ms(s.latency.quantile(0.99)), ms(s.latency.max()), n);
       if (none == kCandidateTimeoutsMs.size()) {

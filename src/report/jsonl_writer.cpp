@@ -3,6 +3,8 @@
 #include "core/function_codes.hpp"
 #include "core/json_writer.hpp"
 #include "core/time_format.hpp"
+#include "dissect/device_stage.hpp"
+#include "dissect/point_format.hpp"
 #include "modbus/pdu.hpp"
 #include "report/frame_text.hpp"
 #include "report/timing_note.hpp"
@@ -38,8 +40,7 @@ void write_issues(JsonWriter& json, const IssueSet& issues) {
 
 }  // namespace
 
-JsonlWriter::JsonlWriter(OutputStream& out, FrameAnnotator* annotator, bool flush_each)
-    : out_(out), annotator_(annotator), flush_each_(flush_each) {}
+JsonlWriter::JsonlWriter(OutputStream& out, bool flush_each) : out_(out), flush_each_(flush_each) {}
 
 void JsonlWriter::on_capture(const CaptureInfo& info) {
   buffer_.clear();
@@ -70,7 +71,8 @@ void JsonlWriter::on_capture(const CaptureInfo& info) {
 
 void JsonlWriter::on_record(Record& record) {
   const bool is_frame = record.kind == RecordKind::kFrame;
-  if (is_frame && annotator_ != nullptr) annotator_->annotate(record);
+  // The device stage (when one runs) read the frame with the slave's map.
+  const dissect::DeviceMap* map = record.device != nullptr ? record.device->map : nullptr;
   buffer_.clear();
   JsonWriter json(buffer_);
   json.begin_object();
@@ -97,8 +99,7 @@ void JsonlWriter::on_record(Record& record) {
     }
     if (record.is_exception() && record.size >= 3) {
       const std::uint8_t code = record.storage[2];
-      std::string_view name =
-          annotator_ != nullptr ? annotator_->exception_name(record, code) : std::string_view{};
+      std::string_view name = map != nullptr ? map->exception_name(code) : std::string_view{};
       if (name.empty()) name = exception_name(code);
       json.key("exception");
       json.begin_object();
@@ -113,7 +114,12 @@ void JsonlWriter::on_record(Record& record) {
     if (!(record.is_exception() && record.size >= 3)) {
       write_pdu_json(json, decode_pdu(record, record.role));
     }
-    if (annotator_ != nullptr) annotator_->write_json(json, record);
+    if (map != nullptr) {
+      json.field("device", std::string_view(map->model));
+      if (!record.device->decoded.points.empty()) {
+        dissect::write_points_json(json, record.device->decoded);
+      }
+    }
   }
   json.end_object();
   buffer_.push_back('\n');

@@ -12,13 +12,13 @@
 
 #include "core/output_stream.hpp"
 #include "framing/record.hpp"
-#include "report/frame_annotator.hpp"
 
 namespace rtu {
 
 class JsonlWriter : public RecordSink {
  public:
-  JsonlWriter(OutputStream& out, FrameAnnotator* annotator = nullptr, bool flush_each = false);
+  // `flush_each`: every record reaches `out` at once (live output), else buffered.
+  explicit JsonlWriter(OutputStream& out, bool flush_each = false);
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
@@ -26,7 +26,6 @@ class JsonlWriter : public RecordSink {
 
  private:
   OutputStream& out_;
-  FrameAnnotator* annotator_;
   bool flush_each_;
   fmt::memory_buffer buffer_;
 };

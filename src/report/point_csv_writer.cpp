@@ -1,6 +1,7 @@
 #include "report/point_csv_writer.hpp"
 
 #include "core/time_format.hpp"
+#include "dissect/device_stage.hpp"
 
 namespace rtu {
 
@@ -32,7 +33,12 @@ PointCsvWriter::~PointCsvWriter() {
   }
 }
 
-void PointCsvWriter::on_point(const PointSample& s) {
+void PointCsvWriter::on_record(Record& record) {
+  if (record.device == nullptr) return;
+  for (const dissect::PointValue& v : record.device->values) add(v);
+}
+
+void PointCsvWriter::add(const dissect::PointValue& s) {
   append_seconds(buffer_, s.t, 6);
   fmt::format_to(std::back_inserter(buffer_), ",{},", s.slave);
   append_field(buffer_, s.point);

@@ -158,7 +158,8 @@ void summary(Out& o, const TrafficStats& stats) {
   card(o, "total-slaves", "slaves", fmt::format("{}", slaves));
   card(o, "total-utilisation", "bus utilisation (%)",
        fmt::format("{:.2f}", t.utilisation() * 100.0));
-  card(o, "total-crc", "CRC errors", fmt::format("{}", t.crc_errors), t.crc_errors > 0);
+  card(o, "total-crc", "CRC errors", fmt::format("{}", t.issues[IssueId::kCrc]),
+       t.issues[IssueId::kCrc] > 0);
   card(o, "total-exceptions", "exceptions", fmt::format("{}", t.exceptions), t.exceptions > 0);
   card(o, "total-timeouts", "timeouts", fmt::format("{}", t.timeouts), t.timeouts > 0);
   card(o, "total-line-errors", "line errors", fmt::format("{}", t.line_error_records),
@@ -175,9 +176,9 @@ void summary(Out& o, const TrafficStats& stats) {
       fmt::format("{} ({})", t.noise_bytes, t.noise_records));
   row("total-damaged-requests", "damaged requests, unanswered (not timeouts)",
       fmt::format("{}", t.damaged_requests));
-  row("total-late", "late responses", fmt::format("{}", t.late));
+  row("total-late", "late responses", fmt::format("{}", t.issues[IssueId::kLate]));
   row("total-unsolicited", "unsolicited / wrong slave",
-      fmt::format("{} / {}", t.unsolicited, t.wrong_slave));
+      fmt::format("{} / {}", t.issues[IssueId::kUnsolicited], t.issues[IssueId::kWrongSlave]));
   row("total-line-detail", "line errors: parity / framing / break / overrun",
       fmt::format("{} / {} / {} / {}", t.parity_errors, t.framing_errors, t.breaks, t.overruns));
   row("total-resolution", "timing resolution (ms)",
@@ -231,13 +232,14 @@ void timeline_chart(Out& o, const TrafficStats& stats) {
   struct Lane {
     std::string_view name;
     std::string_view colour;
-    std::uint64_t TrafficBucket::*field;
+    std::uint64_t (*count)(const TrafficBucket&);
   };
-  const Lane lanes[] = {{"CRC errors", "#c0392b", &TrafficBucket::crc_errors},
-                        {"timeouts", "#d68910", &TrafficBucket::timeouts},
-                        {"exceptions", "#8e44ad", &TrafficBucket::exceptions},
-                        {"line errors", "#e74c3c", &TrafficBucket::line_errors},
-                        {"noise bytes", "#7f8c8d", &TrafficBucket::noise_bytes}};
+  const Lane lanes[] = {
+      {"CRC errors", "#c0392b", [](const TrafficBucket& b) { return b.issues[IssueId::kCrc]; }},
+      {"timeouts", "#d68910", [](const TrafficBucket& b) { return b.timeouts; }},
+      {"exceptions", "#8e44ad", [](const TrafficBucket& b) { return b.exceptions; }},
+      {"line errors", "#e74c3c", [](const TrafficBucket& b) { return b.line_errors; }},
+      {"noise bytes", "#7f8c8d", [](const TrafficBucket& b) { return b.noise_bytes; }}};
   constexpr double kLane = 14;
   svg::Frame f;
   f.width = 1100;
@@ -277,9 +279,9 @@ void timeline_chart(Out& o, const TrafficStats& stats) {
         "<text class=\"lanelab\" x=\"{:.1f}\" y=\"{:.1f}\">{}</text>",
         f.left, y, f.plot_width(), kLane - 3, f.left - 4, y + 9, lanes[l].name);
     std::uint64_t lane_peak = 1;
-    for (std::size_t i = 0; i < n; ++i) lane_peak = std::max(lane_peak, tl[i].*(lanes[l].field));
+    for (std::size_t i = 0; i < n; ++i) lane_peak = std::max(lane_peak, lanes[l].count(tl[i]));
     for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t v = tl[i].*(lanes[l].field);
+      const std::uint64_t v = lanes[l].count(tl[i]);
       if (v == 0) continue;
       const double op = 0.35 + 0.65 * static_cast<double>(v) / static_cast<double>(lane_peak);
       put(o,
@@ -364,8 +366,9 @@ void slave_table(Out& o, const TrafficStats& stats) {
         "<td class=\"rsp\">{}</td>{}{}{}{}{}{}",
         a, a, device_cell(stats, static_cast<std::uint8_t>(a)), s->requests, s->responses,
         count_cell(s->exceptions, true), count_cell(s->timeouts, true),
-        count_cell(s->damaged_requests, true), count_cell(s->crc_errors, true),
-        count_cell(s->unsolicited, true), count_cell(s->wrong_slave, true));
+        count_cell(s->damaged_requests, true), count_cell(s->issues[IssueId::kCrc], true),
+        count_cell(s->issues[IssueId::kUnsolicited], true),
+        count_cell(s->issues[IssueId::kWrongSlave], true));
     if (s->latency.empty()) {
       put(o, "<td colspan=\"5\" class=\"num0\">no timed answers</td>");
     } else {
@@ -386,6 +389,13 @@ void slave_table(Out& o, const TrafficStats& stats) {
           "<tr><td></td><td class=\"l\" colspan=\"15\" style=\"color:var(--muted)\">exception "
           "{:02X} {} &times;{}</td></tr>",
           code, escaped(stats.exception_name(static_cast<std::uint8_t>(a), code)), n);
+    }
+    const std::string issues = issue_counts_text(s->issues);
+    if (!issues.empty()) {
+      put(o,
+          "<tr><td></td><td class=\"l\" colspan=\"15\" style=\"color:var(--muted)\">issues: "
+          "{}</td></tr>",
+          escaped(issues));
     }
   }
   put(o, "</tbody></table></div></section>");
@@ -520,9 +530,9 @@ void timing_section(Out& o, const TrafficStats& stats) {
   put(o, "<tr><th class=\"l\">t1.5 = {:.3f} ms, t3.5 = {:.3f} ms</th><td></td></tr>",
       to_millis(info.line.t1_5()), to_millis(info.line.t3_5()));
   put(o, "<tr><th class=\"l\">pauses &gt; t1.5 inside frames</th><td>{}</td></tr>",
-      stats.t15_observable() ? fmt::format("{}", t.t15_frames) : "not observable");
+      stats.t15_observable() ? fmt::format("{}", t.issues[IssueId::kT15]) : "not observable");
   put(o, "<tr><th class=\"l\">frames &lt; t3.5 after the previous one</th><td>{}</td></tr>",
-      stats.t35_observable() ? fmt::format("{}", t.t35_frames) : "not observable");
+      stats.t35_observable() ? fmt::format("{}", t.issues[IssueId::kT35]) : "not observable");
   put(o,
       "<tr><th class=\"l\">lone bytes right after a frame (driver glitches at turnaround): "
       "after the master's frames / after slaves' frames</th><td id=\"turnaround-glitch\">{} / "

@@ -10,6 +10,15 @@ namespace rtu {
 
 namespace {
 
+// "issues": {"crc": 3, "scale_unknown": 12, ...}: every key counted at least once, in
+// catalogue order, device keys included.
+void write_issue_counts(JsonWriter& j, const IssueCounts& counts) {
+  j.key("issues");
+  j.begin_object();
+  counts.for_each([&](IssueId id, std::uint64_t n) { j.field(issue_info(id).key, n); });
+  j.end_object();
+}
+
 void write_ms(JsonWriter& j, Nanos t) {
   j.value_fixed(to_millis(t), 3);
 }
@@ -101,13 +110,14 @@ void write_totals(JsonWriter& j, const TrafficStats& stats) {
   j.field("noise_bytes", t.noise_bytes);
   j.key("bus_utilisation_pct");
   j.value_fixed(t.utilisation() * 100.0, 2);
-  j.field("crc_errors", t.crc_errors);
+  j.field("crc_errors", t.issues[IssueId::kCrc]);
   j.field("exceptions", t.exceptions);
   j.field("timeouts", t.timeouts);
   j.field("damaged_requests", t.damaged_requests);
-  j.field("late_responses", t.late);
-  j.field("unsolicited", t.unsolicited);
-  j.field("wrong_slave", t.wrong_slave);
+  j.field("late_responses", t.issues[IssueId::kLate]);
+  j.field("unsolicited", t.issues[IssueId::kUnsolicited]);
+  j.field("wrong_slave", t.issues[IssueId::kWrongSlave]);
+  write_issue_counts(j, t.issues);
   j.key("line_errors");
   j.begin_object();
   j.field("records", t.line_error_records);
@@ -118,8 +128,8 @@ void write_totals(JsonWriter& j, const TrafficStats& stats) {
   // Of those records, the ones on turnaround glitches (the line-error findings leave them out).
   j.field("on_turnaround_glitches", t.glitch_line_errors.records);
   j.end_object();
-  j.field("t1_5_pauses", t.t15_frames);
-  j.field("t3_5_violations", t.t35_frames);
+  j.field("t1_5_pauses", t.issues[IssueId::kT15]);
+  j.field("t3_5_violations", t.issues[IssueId::kT35]);
   j.key("timing_resolution_ms");
   write_ms(j, stats.capture().timing_resolution);
   j.field("slaves", static_cast<std::uint64_t>(slave_count(stats)));
@@ -158,10 +168,11 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   j.end_array();
   j.field("timeouts", s.timeouts);
   j.field("damaged_requests", s.damaged_requests);
-  j.field("late_responses", s.late);
-  j.field("crc_errors", s.crc_errors);
-  j.field("unsolicited", s.unsolicited);
-  j.field("wrong_slave", s.wrong_slave);
+  j.field("late_responses", s.issues[IssueId::kLate]);
+  j.field("crc_errors", s.issues[IssueId::kCrc]);
+  j.field("unsolicited", s.issues[IssueId::kUnsolicited]);
+  j.field("wrong_slave", s.issues[IssueId::kWrongSlave]);
+  write_issue_counts(j, s.issues);
   j.field("after_next_request", s.after_next_request);
   j.field("frames", s.frames);
   j.field("bytes", s.bytes);
@@ -256,8 +267,8 @@ void write_timing(JsonWriter& j, const TrafficStats& stats) {
   j.begin_object();
   j.field("t1_5_observable", stats.t15_observable());
   j.field("t3_5_observable", stats.t35_observable());
-  j.field("t1_5_pauses", stats.totals().t15_frames);
-  j.field("t3_5_violations", stats.totals().t35_frames);
+  j.field("t1_5_pauses", stats.totals().issues[IssueId::kT15]);
+  j.field("t3_5_violations", stats.totals().issues[IssueId::kT35]);
   j.key("slave_turnaround_ms");
   write_percentiles(j, stats.all_latencies());
   j.key("master_turnaround_ms");
@@ -352,11 +363,20 @@ void write_timeline(JsonWriter& j, const TrafficStats& stats) {
   column("frames", [](const TrafficBucket& b) { return b.frames; });
   column("requests", [](const TrafficBucket& b) { return b.requests; });
   column("responses", [](const TrafficBucket& b) { return b.responses; });
-  column("crc_errors", [](const TrafficBucket& b) { return b.crc_errors; });
+  column("crc_errors", [](const TrafficBucket& b) { return b.issues[IssueId::kCrc]; });
   column("exceptions", [](const TrafficBucket& b) { return b.exceptions; });
   column("timeouts", [](const TrafficBucket& b) { return b.timeouts; });
   column("noise_bytes", [](const TrafficBucket& b) { return b.noise_bytes; });
   column("line_errors", [](const TrafficBucket& b) { return b.line_errors; });
+  // One column per issue key seen anywhere in the capture.
+  IssueCounts seen;
+  for (std::size_t i = 0; i < n; ++i) seen.merge(tl[i].issues);
+  j.key("issues");
+  j.begin_object();
+  seen.for_each([&](IssueId id, std::uint64_t) {
+    column(issue_info(id).key, [id](const TrafficBucket& b) { return b.issues[id]; });
+  });
+  j.end_object();
   j.key("utilisation_pct");
   j.begin_array();
   for (std::size_t i = 0; i < n; ++i) {

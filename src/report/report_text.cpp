@@ -66,11 +66,12 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "  bytes             {} ({} noise bytes in {} records)", t.bytes, t.noise_bytes,
        t.noise_records);
   line(o, "  bus utilisation   {:.2f}%", t.utilisation() * 100.0);
-  line(o, "  crc errors        {}", t.crc_errors);
+  line(o, "  crc errors        {}", t.issues[IssueId::kCrc]);
   line(o, "  exceptions        {}", t.exceptions);
-  line(o, "  timeouts          {} ({} late responses)", t.timeouts, t.late);
+  line(o, "  timeouts          {} ({} late responses)", t.timeouts, t.issues[IssueId::kLate]);
   line(o, "  damaged requests  {} (unanswered; not counted as timeouts)", t.damaged_requests);
-  line(o, "  unsolicited       {} ({} from the wrong slave)", t.unsolicited, t.wrong_slave);
+  line(o, "  unsolicited       {} ({} from the wrong slave)", t.issues[IssueId::kUnsolicited],
+       t.issues[IssueId::kWrongSlave]);
   line(o, "  line errors       {} ({} parity, {} framing, {} break, {} overrun){}",
        t.line_error_records, t.parity_errors, t.framing_errors, t.breaks, t.overruns,
        glitch_line_errors(t));
@@ -99,11 +100,13 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
     any_identified = any_identified || identified;
     line(o, "  {:>5} {:<10} {:>8} {:>8} {:>6} {:>8} {:>7} {:>5} {:>6}  {}", a,
          model.empty() ? "-" : fmt::format("{}{}", model, identified ? "*" : ""), s->requests,
-         s->responses, s->exceptions, s->timeouts, s->damaged_requests, s->crc_errors,
-         s->unsolicited, latency_text(s->latency));
+         s->responses, s->exceptions, s->timeouts, s->damaged_requests, s->issues[IssueId::kCrc],
+         s->issues[IssueId::kUnsolicited], latency_text(s->latency));
     for (const auto& [code, n] : s->exception_codes) {
       line(o, "        exception {:02X} {} ×{}", code, stats.exception_name(address, code), n);
     }
+    const std::string issues = issue_counts_text(s->issues);
+    if (!issues.empty()) line(o, "        issues: {}", issues);
   }
   if (any_identified) {
     line(o, "  * device identified from the traffic; name it with --device ADDR=MODEL or --bus");
@@ -135,13 +138,22 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "TIMING");
   line(o, "  slave turnaround (latency) ms  {}", latency_text(stats.all_latencies()));
   line(o, "  master turnaround ms           {}", latency_text(stats.master_turnaround()));
-  line(o, "  t1.5 pauses inside frames      {}{}", t.t15_frames,
+  line(o, "  t1.5 pauses inside frames      {}{}", t.issues[IssueId::kT15],
        stats.t15_observable() ? "" : " (not observable in this capture)");
-  line(o, "  t3.5 violations                {}{}", t.t35_frames,
+  line(o, "  t3.5 violations                {}{}", t.issues[IssueId::kT35],
        stats.t35_observable() ? "" : " (not observable in this capture)");
   line(o, "  driver glitches at turnaround  {} ({}{})", t.turnaround_glitch_records,
        glitch_senders(stats), flagged_glitch_line_errors(t));
   out.write(o);
+}
+
+std::string issue_counts_text(const IssueCounts& counts) {
+  std::string out;
+  counts.for_each([&](IssueId id, std::uint64_t n) {
+    fmt::format_to(std::back_inserter(out), "{}{} ×{}", out.empty() ? "" : ", ", issue_info(id).key,
+                   n);
+  });
+  return out;
 }
 
 }  // namespace rtu

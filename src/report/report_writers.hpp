@@ -9,16 +9,19 @@
 //              responses, broadcasts, unknown_role, bytes, noise_records, noise_bytes,
 //              bus_utilisation_pct, crc_errors, exceptions, timeouts (intact requests
 //              unanswered), damaged_requests (damaged requests unanswered), late_responses,
-//              unsolicited, wrong_slave, line_errors {records, parity, framing, break,
-//              overrun, on_turnaround_glitches (records among them that are turnaround
-//              glitches of either kind)}, t1_5_pauses, t3_5_violations, timing_resolution_ms,
-//              slaves, request_kinds, request_kinds_overflow, points, points_overflow}
+//              unsolicited, wrong_slave, issues {key: records carrying it, for every issue key
+//              counted, device keys such as scale_unknown included}, line_errors {records, parity,
+//              framing, break, overrun, on_turnaround_glitches (records among them that are
+//              turnaround glitches of either kind)}, t1_5_pauses, t3_5_violations,
+//              timing_resolution_ms, slaves, request_kinds, request_kinds_overflow, points,
+//              points_overflow}
 //   slaves    {"<addr>": {device (model, null when unknown), device_model_source
 //              ("configured" by --device/--bus, "identified" from the traffic, null), requests,
 //              responses, exceptions, exceptions_by_code [{code, name (the device map's own meaning
 //              where it has one), count}], timeouts, damaged_requests, late_responses,
 //              crc_errors, unsolicited,
-//              wrong_slave, after_next_request, frames, bytes, line_errors, latency_ms {min, p50,
+//              wrong_slave, issues {key: count, as in totals, over its frames},
+//              after_next_request, frames, bytes, line_errors, latency_ms {min, p50,
 //              p95, p99, max, mean} (null when no answer was timed), latency_samples,
 //              function_codes [{fc, name, count}], poll_periods [{fc, function, addr, qty (null for
 //              functions without a range), count, responses, exceptions, timeouts, period_ms {min,
@@ -38,6 +41,7 @@
 //              units {name: unit}}] ranked, most important first
 //   timeline  {start (s), bucket_s, frames [], requests [], responses [], crc_errors [],
 //              exceptions [], timeouts [], noise_bytes [], line_errors [],
+//              issues {key: [] for every issue key counted in the capture},
 //              utilisation_pct []} one entry per bucket, up to the capture's end
 //   points    [{slave, point, unit, samples, changes, first, min, max, last}]
 #include <vector>
@@ -55,5 +59,8 @@ void write_report_json(OutputStream& out, const TrafficStats& stats,
 // One self-contained HTML file: inline CSS and SVG, no scripts, nothing fetched.
 void write_report_html(OutputStream& out, const TrafficStats& stats,
                        const std::vector<Finding>& findings);
+
+// "crc ×3, scale_unknown ×12": every issue key counted, in catalogue order (text and HTML).
+std::string issue_counts_text(const IssueCounts& counts);
 
 }  // namespace rtu

@@ -4,6 +4,8 @@
 
 #include "core/function_codes.hpp"
 #include "core/time_format.hpp"
+#include "dissect/device_stage.hpp"
+#include "dissect/point_format.hpp"
 #include "modbus/pdu.hpp"
 #include "report/frame_text.hpp"
 #include "report/timing_note.hpp"
@@ -44,8 +46,7 @@ void append_frame_summary(fmt::memory_buffer& out, const Record& frame) {
   out.append(text);
 }
 
-TextWriter::TextWriter(OutputStream& out, FrameAnnotator* annotator, bool flush_each)
-    : out_(out), annotator_(annotator), flush_each_(flush_each) {}
+TextWriter::TextWriter(OutputStream& out, bool flush_each) : out_(out), flush_each_(flush_each) {}
 
 void TextWriter::on_capture(const CaptureInfo& info) {
   buffer_.clear();
@@ -62,7 +63,8 @@ void TextWriter::on_capture(const CaptureInfo& info) {
 
 void TextWriter::on_record(Record& record) {
   const bool is_frame = record.kind == RecordKind::kFrame;
-  if (is_frame && annotator_ != nullptr) annotator_->annotate(record);
+  // The device stage (when one runs) read the frame with the slave's map.
+  const dissect::DeviceMap* map = record.device != nullptr ? record.device->map : nullptr;
   buffer_.clear();
   auto it = std::back_inserter(buffer_);
   if (record.t_start >= kWallClockFrom && utc_day(record.t_start) != shown_day_) {
@@ -99,15 +101,15 @@ void TextWriter::on_record(Record& record) {
     fmt::format_to(it, "  {:<4} {:>5}  {:<16} ", role_short_name(record.role), record.slave(),
                    function_short_name(record.function()));
     const std::string_view vendor_exception =
-        annotator_ != nullptr && record.is_exception() && record.size >= 3
-            ? annotator_->exception_name(record, record.storage[2])
+        map != nullptr && record.is_exception() && record.size >= 3
+            ? map->exception_name(record.storage[2])
             : std::string_view{};
     if (!vendor_exception.empty()) {
       fmt::format_to(it, "exception {:02X} {}", record.storage[2], vendor_exception);
     } else {
       append_frame_summary(buffer_, record);
     }
-    if (annotator_ != nullptr) annotator_->append_text(buffer_, record);
+    if (map != nullptr) dissect::append_points_text(buffer_, record.device->decoded);
     if (record.role == Role::kResponse && record.latency != kUnknownTime) {
       fmt::format_to(it, "  {:.3f} ms", to_millis(record.latency));
     }

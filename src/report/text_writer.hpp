@@ -7,13 +7,13 @@
 
 #include "core/output_stream.hpp"
 #include "framing/record.hpp"
-#include "report/frame_annotator.hpp"
 
 namespace rtu {
 
 class TextWriter : public RecordSink {
  public:
-  TextWriter(OutputStream& out, FrameAnnotator* annotator = nullptr, bool flush_each = false);
+  // `flush_each`: every record reaches `out` at once (live output), else buffered.
+  explicit TextWriter(OutputStream& out, bool flush_each = false);
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
@@ -21,7 +21,6 @@ class TextWriter : public RecordSink {
 
  private:
   OutputStream& out_;
-  FrameAnnotator* annotator_;
   bool flush_each_;
   fmt::memory_buffer buffer_;
   Nanos shown_day_ = kUnknownTime;  // UTC day of the last date line (wall-clock captures)

@@ -4,6 +4,7 @@
 
 #include "core/chunk.hpp"
 #include "core/function_codes.hpp"
+#include "dissect/device_stage.hpp"
 
 namespace rtu {
 
@@ -50,7 +51,7 @@ void TrafficBucket::merge(const TrafficBucket& o) {
   frames += o.frames;
   requests += o.requests;
   responses += o.responses;
-  crc_errors += o.crc_errors;
+  issues.merge(o.issues);
   exceptions += o.exceptions;
   timeouts += o.timeouts;
   noise_bytes += o.noise_bytes;
@@ -82,8 +83,7 @@ void PointBucket::merge(const PointBucket& o) {
   count += o.count;
 }
 
-TrafficStats::TrafficStats(PointSource* points, PointSink* also)
-    : point_source_(points), also_(also) {}
+TrafficStats::TrafficStats(const dissect::DeviceTable* devices) : devices_(devices) {}
 
 void TrafficStats::on_capture(const CaptureInfo& info) {
   info_ = info;
@@ -172,6 +172,8 @@ void TrafficStats::on_record(Record& r) {
   }
   totals_.last_t = std::max(totals_.last_t, r.t_end);
   totals_.bytes += r.size;
+  totals_.issues.add(r.issues);
+  timeline_.at(r.t_start).issues.add(r.issues);
   // The line is busy for exactly size × character time, whatever the timestamps' blur.
   const Nanos busy = static_cast<Nanos>(r.size) * info_.line.char_time();
   totals_.busy_ns += static_cast<double>(busy);
@@ -188,7 +190,9 @@ void TrafficStats::on_record(Record& r) {
     count_frame(r);
     frame_end_ = r.t_end;
     glitch_span_ = 0;
-    if (point_source_ != nullptr) point_source_->extract(r, *this);
+    if (r.device != nullptr) {
+      for (const dissect::PointValue& v : r.device->values) add_point(v);
+    }
   }
 }
 
@@ -218,23 +222,19 @@ void TrafficStats::count_frame(const Record& r) {
   ++totals_.frames_by_length[cls];
   const bool crc_bad = !r.crc_ok;
   if (crc_bad) {
-    ++totals_.crc_errors;
     ++totals_.crc_by_length[cls];
-    ++bucket.crc_errors;
   } else if (seen_line_error_) {
     ++valid_since_line_error_;
   }
-  if (r.issues.has(IssueId::kT15)) ++totals_.t15_frames;
-  if (r.issues.has(IssueId::kT35)) ++totals_.t35_frames;
 
   const bool broadcast = r.slave() == 0 && r.role == Role::kRequest;
   if (!broadcast) {
     SlaveStats& s = slave_mut(r.slave());
     ++s.frames;
     s.bytes += r.size;
+    s.issues.add(r.issues);
     ++s.frames_by_length[cls];
     if (crc_bad) {
-      ++s.crc_errors;
       ++s.crc_by_length[cls];
     } else {
       ++s.valid_frames;
@@ -363,18 +363,6 @@ void TrafficStats::count_response(const Record& r) {
     ++s.exceptions;
     ++s.exception_codes[*code];
   }
-  if (r.issues.has(IssueId::kLate)) {
-    ++totals_.late;
-    ++s.late;
-  }
-  if (unsolicited) {
-    ++totals_.unsolicited;
-    ++s.unsolicited;
-  }
-  if (wrong_slave) {
-    ++totals_.wrong_slave;
-    ++s.wrong_slave;
-  }
   if ((unsolicited || wrong_slave) && timed_out_slave_ == r.slave()) ++s.after_next_request;
   if (r.latency != kUnknownTime && !wrong_slave && r.crc_ok) {
     s.latency.add(r.latency);
@@ -479,14 +467,13 @@ void TrafficStats::count_line_errors(const Record& r, bool glitch) {
   totals_.valid_frames_between_line_errors = valid_since_line_error_;
 }
 
-void TrafficStats::on_point(const PointSample& sample) {
+void TrafficStats::add_point(const dissect::PointValue& sample) {
   point_key_.assign(sample.point);
   auto key = std::make_pair(sample.slave, point_key_);
   auto it = points_.find(key);
   if (it == points_.end()) {
     if (points_.size() >= kMaxPoints) {
       ++points_overflow_;
-      if (also_ != nullptr) also_->on_point(sample);
       return;
     }
     PointSeries series{std::string(sample.unit),
@@ -506,23 +493,22 @@ void TrafficStats::on_point(const PointSample& sample) {
   p.max = std::max(p.max, sample.value);
   p.last = sample.value;
   p.over_time.at(sample.t).add(sample.value);
-  if (also_ != nullptr) also_->on_point(sample);
 }
 
 std::string_view TrafficStats::device_model(std::uint8_t address) const {
-  return point_source_ == nullptr ? std::string_view{} : point_source_->device_model(address);
+  return devices_ == nullptr ? std::string_view{} : devices_->model(address);
 }
 
 bool TrafficStats::device_model_identified(std::uint8_t address) const {
-  return !device_model(address).empty() && point_source_->device_model_identified(address);
+  return devices_ != nullptr && devices_->identified(address);
 }
 
 bool TrafficStats::device_exception(std::uint8_t address, std::uint8_t code) const {
-  return point_source_ != nullptr && !point_source_->device_exception_name(address, code).empty();
+  return devices_ != nullptr && !devices_->exception_name(address, code).empty();
 }
 
 std::string_view TrafficStats::exception_name(std::uint8_t address, std::uint8_t code) const {
-  return device_exception(address, code) ? point_source_->device_exception_name(address, code)
+  return device_exception(address, code) ? devices_->exception_name(address, code)
                                          : rtu::exception_name(code);
 }
 

@@ -18,10 +18,11 @@
 #include <string>
 #include <tuple>
 
+#include "dissect/device_table.hpp"
+#include "dissect/point_value.hpp"
 #include "framing/capture_info.hpp"
 #include "framing/record.hpp"
 #include "report/log_histogram.hpp"
-#include "report/point_source.hpp"
 #include "report/time_buckets.hpp"
 
 namespace rtu {
@@ -62,13 +63,11 @@ struct Totals {
   std::uint64_t bytes = 0;  // every byte on the line, noise included
   std::uint64_t noise_records = 0;
   std::uint64_t noise_bytes = 0;
-  std::uint64_t crc_errors = 0;
+  // Records carrying each issue key, device keys included (crc, late, t1.5, scale_unknown...).
+  IssueCounts issues;
   std::uint64_t exceptions = 0;
   std::uint64_t timeouts = 0;          // intact requests that got no answer (SlaveStats)
   std::uint64_t damaged_requests = 0;  // damaged requests that got no answer (SlaveStats)
-  std::uint64_t late = 0;
-  std::uint64_t unsolicited = 0;
-  std::uint64_t wrong_slave = 0;
   // Noise records the framer flagged `turnaround_glitch`, and their bytes (part of noise_*).
   std::uint64_t turnaround_glitch_records = 0;
   std::uint64_t turnaround_glitch_bytes = 0;
@@ -82,8 +81,6 @@ struct Totals {
   // the framer, or lone 0x00/0xFF bytes after a turnaround): the undriven line read while
   // nobody holds it, not a device's line settings, so the line-error findings leave them out.
   LineErrorCounts glitch_line_errors;
-  std::uint64_t t15_frames = 0;
-  std::uint64_t t35_frames = 0;
   double busy_ns = 0.0;  // bytes × character time
   std::array<std::uint64_t, kLengthClasses> frames_by_length{};
   std::array<std::uint64_t, kLengthClasses> crc_by_length{};
@@ -110,10 +107,9 @@ struct SlaveStats {
   // include damaged frames whose role the tracker left unknown but that read as a request
   // from the master (see TrafficStats::note_unknown_frame).
   std::uint64_t damaged_requests = 0;
-  std::uint64_t late = 0;        // responses after the response timeout
-  std::uint64_t crc_errors = 0;  // frames carrying its address with a bad CRC
-  std::uint64_t unsolicited = 0;
-  std::uint64_t wrong_slave = 0;  // its responses to a request for another slave
+  // Its frames (requests to it and its responses) carrying each issue key: crc, late,
+  // unsolicited, wrong_slave (its responses to a request for another slave), device keys...
+  IssueCounts issues;
   // Its responses that came after the master had given up and sent the next request.
   std::uint64_t after_next_request = 0;
   std::uint64_t frames = 0;
@@ -163,7 +159,7 @@ struct TrafficBucket {
   std::uint64_t frames = 0;
   std::uint64_t requests = 0;
   std::uint64_t responses = 0;
-  std::uint64_t crc_errors = 0;
+  IssueCounts issues;  // records starting in the bucket, per issue key
   std::uint64_t exceptions = 0;
   std::uint64_t timeouts = 0;
   std::uint64_t noise_bytes = 0;
@@ -192,7 +188,7 @@ struct PointSeries {
   TimeBuckets<PointBucket> over_time;
 };
 
-class TrafficStats : public RecordSink, private PointSink {
+class TrafficStats : public RecordSink {
  public:
   static constexpr std::size_t kMaxRequestKinds = 512;
   static constexpr std::size_t kMaxPoints = 1024;
@@ -200,9 +196,9 @@ class TrafficStats : public RecordSink, private PointSink {
   static constexpr std::size_t kPointBuckets = 120;
   static constexpr Nanos kFirstBucketWidth = kNanosPerMilli;
 
-  // `points` (optional, not owned) gives register values and device models; `also` (optional,
-  // not owned) receives every value too (e.g. the CSV export).
-  explicit TrafficStats(PointSource* points = nullptr, PointSink* also = nullptr);
+  // Register values come from the records (the device stage's DeviceReading::values).
+  // `devices` (optional, not owned) tells the slaves' models when the report is written.
+  explicit TrafficStats(const dissect::DeviceTable* devices = nullptr);
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
@@ -222,7 +218,7 @@ class TrafficStats : public RecordSink, private PointSink {
     return points_;
   }
   [[nodiscard]] std::uint64_t points_overflow() const { return points_overflow_; }
-  // What the point source knows about a slave's device at the time of asking (a live run
+  // What the device table knows about a slave's device at the time of asking (a live run
   // identifies models only after the last record): its model ("" when unknown), whether it
   // was identified rather than configured, and an exception code's meaning (the device's
   // own where its map has one, else the standard one; `device_exception` says which).
@@ -261,7 +257,7 @@ class TrafficStats : public RecordSink, private PointSink {
   [[nodiscard]] bool t35_observable() const;
 
  private:
-  void on_point(const PointSample& sample) override;
+  void add_point(const dissect::PointValue& value);
   SlaveStats& slave_mut(std::uint8_t address);
   void count_frame(const Record& r);
   void count_request(const Record& r);
@@ -277,8 +273,7 @@ class TrafficStats : public RecordSink, private PointSink {
   [[nodiscard]] Nanos silence_since_frame(const Record& next) const;
   void bridge_glitch(const Record& glitch);
 
-  PointSource* point_source_;
-  PointSink* also_;
+  const dissect::DeviceTable* devices_;
   CaptureInfo info_;
   Totals totals_;
   std::array<std::unique_ptr<SlaveStats>, 256> slaves_{};

@@ -55,7 +55,7 @@ TEST(DissectTh900, WriteTo0023IsShownRawAndFlaggedUndefined) {
   EXPECT_EQ(w.points[0].addr, 0x23U);
   EXPECT_EQ(w.points[0].raw, 9U);
   EXPECT_TRUE(bus.issues().has(IssueId::kUndefinedRegister));
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  [0x0023]=0x0009");
+  EXPECT_EQ(bus.request_text(), "  [0x0023]=0x0009");
 }
 
 TEST(DissectTh900, GenericExampleReadsUndefinedAddresses) {
@@ -150,10 +150,10 @@ TEST(DissectYw2050, WriteSingleWiringUsesTheFc06Space) {
   EXPECT_EQ(w.space->id, "write_single");
   const auto* wiring = find_point(w, "wiring");
   ASSERT_NE(wiring, nullptr);
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  wiring=3P3W");
+  EXPECT_EQ(bus.request_text(), "  wiring=3P3W");
   // FC06 0000 is the meter's address, not Ua: 0 is outside 1-247.
   bus.request(made_frame("01 06 00 00 00 00", Role::kRequest, 5));
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  address=0");
+  EXPECT_EQ(bus.request_text(), "  address=0");
   EXPECT_TRUE(bus.issues().has(IssueId::kOutOfRange));
 }
 
@@ -203,20 +203,20 @@ TEST(DissectYw2300, WriteCoilBaudAndParameters) {
   Bus bus("yw2300");
   Decoded w = bus.request_hex("01 05 00 00 FF 00 8C 3A");
   EXPECT_TRUE(bus.last_request().crc_ok);
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  OUT1=on");
+  EXPECT_EQ(bus.request_text(), "  OUT1=on");
   w = bus.request_hex("01 06 54 51 00 03 88 2A");
   EXPECT_TRUE(bus.last_request().crc_ok);
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  baud=9600");
+  EXPECT_EQ(bus.request_text(), "  baud=9600");
   w = bus.request_hex("01 10 54 50 00 02 04 00 01 00 03 29 91");
   EXPECT_TRUE(bus.last_request().crc_ok);
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  addr=1  baud=9600");
+  EXPECT_EQ(bus.request_text(), "  addr=1  baud=9600");
   EXPECT_TRUE(bus.issues().empty());
 }
 
 TEST(DissectYw2300, OvtfProtectionBits) {
   Bus bus("yw2300");
   bus.request(made_frame("01 06 54 5A 80 05", Role::kRequest, 0));
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  OVTF=0x8005[BIT0|BIT2|BIT15]");
+  EXPECT_EQ(bus.request_text(), "  OVTF=0x8005[BIT0|BIT2|BIT15]");
 }
 
 TEST(DissectYw2300, InvalidCoilValueIsFlagged) {
@@ -244,19 +244,18 @@ TEST(DissectYakotec, ReadStatusHighWordFirst) {
 TEST(DissectYakotec, WritesOfSpeedTimesPulsesJogAndControl) {
   Bus bus("yakotec");
   bus.request_hex("01 06 00 23 00 3C 78 11");
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  max_speed=60 r/min");
+  EXPECT_EQ(bus.request_text(), "  max_speed=60 r/min");
   bus.request_hex("01 06 00 21 01 F4 D9 D7");
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  accel=500 ms");
+  EXPECT_EQ(bus.request_text(), "  accel=500 ms");
   const Decoded p = bus.request_hex("01 10 00 24 00 02 04 00 00 13 88 FD 12");
   EXPECT_DOUBLE_EQ(find_point(p, "pulses")->value, 5000.0);  // high word first
   bus.response(frame("01 10 00 24 00 02 01 C3", Role::kResponse, 90));
   bus.request_hex("01 10 00 1D 00 03 06 00 3C 00 64 00 64 66 DE");
-  EXPECT_EQ(bus.text_of(bus.last_request()),
-            "  jog_speed=60 r/min  jog_accel=100 ms  jog_decel=100 ms");
+  EXPECT_EQ(bus.request_text(), "  jog_speed=60 r/min  jog_accel=100 ms  jog_decel=100 ms");
   bus.request_hex("01 06 00 27 00 01 F8 01");
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  control=0x0001[dir]");
+  EXPECT_EQ(bus.request_text(), "  control=0x0001[dir]");
   bus.request_hex("01 06 00 27 00 02 B8 00");
-  EXPECT_EQ(bus.text_of(bus.last_request()), "  control=0x0002[jog]");
+  EXPECT_EQ(bus.request_text(), "  control=0x0002[jog]");
   EXPECT_TRUE(bus.issues().empty());
 }
 
@@ -283,7 +282,7 @@ TEST(DissectYakotec, VendorExceptionTableReplacesStandardNames) {
     const Record resp = frame(c.response, Role::kResponse, bus.next_seq());
     EXPECT_TRUE(resp.crc_ok) << c.response;
     EXPECT_EQ(resp.storage[2], c.code);
-    EXPECT_EQ(bus.annotator().exception_name(resp, c.code), c.name);
+    EXPECT_EQ(bus.table().exception_name(resp.slave(), c.code), c.name);
   }
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Helpers for the device-dissector tests: frames from hex, a library of the bundled maps,
-// and a request/response runner through the DeviceAnnotator.
+// and a request/response runner through the device stage.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "core/crc16.hpp"
-#include "dissect/device_annotator.hpp"
+#include "dissect/device_stage.hpp"
 #include "dissect/map_library.hpp"
+#include "dissect/point_format.hpp"
 #include "framing/record.hpp"
 
 namespace rtu::dissect::testing {
@@ -76,35 +77,52 @@ inline const DecodedPoint* find_point(const Decoded& d, std::string_view name) {
   return nullptr;
 }
 
+// Keeps a copy of what the device stage hung on the last record.
+class LastReading : public RecordSink {
+ public:
+  void on_record(Record& r) override {
+    decoded = r.device != nullptr ? r.device->decoded : Decoded{};
+    has_map = r.device != nullptr && r.device->map != nullptr;
+  }
+  Decoded decoded;
+  bool has_map = false;
+};
+
 // Drives one slave of one model through request/response pairs.
 class Bus {
  public:
   explicit Bus(std::string_view model, std::uint8_t slave = 1) {
     const DeviceMap* map = bundled_maps().find(model);
     if (map == nullptr) throw std::invalid_argument("no bundled map " + std::string(model));
-    annotator_.assign(slave, *map);
+    table_.assign(slave, *map, ModelOrigin::kConfigured);
   }
 
-  // Annotates a request; returns what it decoded (a copy, so it outlives the next frame).
+  // Runs a request through the stage; returns what it decoded (a copy, so it outlives the
+  // next frame).
   Decoded request(const Record& req) {
     last_request_ = req;
-    annotator_.annotate(last_request_);
+    stage_.on_record(last_request_);
     issues_ = last_request_.issues;
-    return copy(last_request_);
+    request_text_.clear();
+    if (last_.has_map) append_points_text(request_text_, last_.decoded);
+    return last_.decoded;
   }
-  // Annotates a response to the last request.
+  // Runs a response to the last request through the stage, and renders it as the writers do.
   Decoded response(Record resp) {
     resp.request = &last_request_;
-    annotator_.annotate(resp);
+    stage_.on_record(resp);
     issues_ = resp.issues;
     text_.clear();
-    annotator_.append_text(text_, resp);
     json_.clear();
     JsonWriter json(json_);
     json.begin_object();
-    annotator_.write_json(json, resp);
+    if (last_.has_map) {
+      append_points_text(text_, last_.decoded);
+      json.field("device", std::string_view(last_.decoded.map->model));
+      if (!last_.decoded.points.empty()) write_points_json(json, last_.decoded);
+    }
     json.end_object();
-    return copy(resp);
+    return last_.decoded;
   }
   Decoded exchange(std::string_view req_hex, std::string_view resp_hex) {
     request(frame(req_hex, Role::kRequest, seq_++));
@@ -116,21 +134,17 @@ class Bus {
   [[nodiscard]] const Record& last_request() const { return last_request_; }
   [[nodiscard]] std::string text() const { return fmt::to_string(text_); }
   [[nodiscard]] std::string json() const { return fmt::to_string(json_); }
-  [[nodiscard]] std::string text_of(const Record& r) const {
-    fmt::memory_buffer out;
-    annotator_.append_text(out, r);
-    return fmt::to_string(out);
-  }
-  DeviceAnnotator& annotator() { return annotator_; }
+  // The text of the last request's points, as the text writer shows them.
+  [[nodiscard]] std::string request_text() const { return fmt::to_string(request_text_); }
+  DeviceTable& table() { return table_; }
   std::uint64_t next_seq() { return seq_++; }
 
  private:
-  Decoded copy(const Record& r) const {
-    const Decoded* d = annotator_.decoded(r);
-    return d == nullptr ? Decoded{} : *d;
-  }
-  DeviceAnnotator annotator_;
+  DeviceTable table_;
+  LastReading last_;
+  DeviceStage stage_{table_, last_};
   Record last_request_;
+  fmt::memory_buffer request_text_;
   IssueSet issues_;
   fmt::memory_buffer text_;
   fmt::memory_buffer json_;

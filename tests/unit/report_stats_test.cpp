@@ -10,10 +10,10 @@
 #include <random>
 
 #include "bus_builder.hpp"
+#include "dissect/device_stage.hpp"
 #include "pipeline/decode_pipeline.hpp"
 #include "report/findings.hpp"
 #include "report/log_histogram.hpp"
-#include "report/raw_register_source.hpp"
 #include "report/time_buckets.hpp"
 #include "report/traffic_stats.hpp"
 
@@ -170,7 +170,7 @@ std::vector<std::uint8_t> corrupt(std::vector<std::uint8_t> frame) {
 }
 
 struct Analysis {
-  std::unique_ptr<RawRegisterSource> raw = std::make_unique<RawRegisterSource>();
+  std::unique_ptr<dissect::DeviceTable> devices = std::make_unique<dissect::DeviceTable>();
   std::unique_ptr<TrafficStats> stats;
   std::vector<Finding> findings;
 
@@ -192,7 +192,9 @@ struct Analysis {
 
 Analysis analyse(const BusBuilder& bus, Nanos resolution = kNanosPerMicro) {
   Analysis a;
-  a.stats = std::make_unique<TrafficStats>(a.raw.get());
+  a.stats = std::make_unique<TrafficStats>(a.devices.get());
+  // No maps: every slave's values are raw registers.
+  dissect::DeviceStage stage(*a.devices, *a.stats, true);
   PipelineOptions o;
   o.line = bus.line();
   o.timing_resolution = resolution;
@@ -202,7 +204,7 @@ Analysis analyse(const BusBuilder& bus, Nanos resolution = kNanosPerMicro) {
   info.line = bus.line();
   info.timing_resolution = resolution;
   info.per_byte_timing = true;
-  DecodePipeline pipeline(o, *a.stats);
+  DecodePipeline pipeline(o, stage);
   pipeline.start(info);
   for (const Chunk& c : bus.per_byte()) pipeline.push(c);
   pipeline.finish();
@@ -229,7 +231,7 @@ TEST(TrafficStats, CleanBusHasNoFindingsAndExactCounts) {
   EXPECT_EQ(t.frames, 240U);
   EXPECT_EQ(t.requests, 120U);
   EXPECT_EQ(t.responses, 120U);
-  EXPECT_EQ(t.crc_errors, 0U);
+  EXPECT_EQ(t.issues[IssueId::kCrc], 0U);
   EXPECT_EQ(t.noise_bytes, 0U);
   ASSERT_NE(a.stats->slave(2), nullptr);
   EXPECT_EQ(a.stats->slave(2)->requests, 40U);
@@ -441,7 +443,7 @@ TEST(Findings, ResponsesTooSoonAfterTheRequest) {
   }
   const Analysis a = analyse(bus);
   const Finding* f = a.find("responses_too_soon");
-  ASSERT_NE(f, nullptr) << a.stats->totals().t35_frames;
+  ASSERT_NE(f, nullptr) << a.stats->totals().issues[IssueId::kT35];
   EXPECT_EQ(f->slave, std::uint8_t{1});
   EXPECT_EQ(analyse(bus, 16 * kMs).find("responses_too_soon"), nullptr);
 }

@@ -1,4 +1,4 @@
-#include "report/raw_register_source.hpp"
+#include "dissect/raw_values.hpp"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 
 #include "core/function_codes.hpp"
 
-namespace rtu {
+namespace rtu::dissect {
 
 namespace {
 
@@ -20,30 +20,13 @@ double bit_at(std::span<const std::uint8_t> b, std::size_t first, std::uint32_t 
   return static_cast<double>((static_cast<unsigned>(b[first + k / 8U]) >> (k % 8U)) & 1U);
 }
 
-}  // namespace
-
-void RawRegisterSource::extract(const Record& frame, PointSink& sink) {
-  if (frame.kind != RecordKind::kFrame || !frame.crc_ok || frame.role != Role::kResponse ||
-      frame.request == nullptr || frame.is_exception() || !frame.request->crc_ok) {
-    return;
-  }
-  const Record& request = *frame.request;
-  if (request.slave() != frame.slave() || request.function() != frame.function()) return;
-  if (frame.issues.has(IssueId::kByteCount) || request.issues.has(IssueId::kByteCount)) return;
+// Hands every value `frame` (a response that carries_values) holds to `emit(space, address,
+// value)`.
+template <typename Emit>
+void for_each_raw_value(const Record& frame, const Emit& emit) {
   const auto rsp = frame.bytes();
-  const auto req = request.bytes();
+  const auto req = frame.request->bytes();
   const std::uint8_t fc = frame.function();
-
-  auto emit = [&](std::string_view space, std::uint32_t addr, double value) {
-    const auto end = fmt::format_to_n(name_.data(), name_.size() - 1, "{} 0x{:04X}", space, addr);
-    PointSample s;
-    s.t = frame.t_start;
-    s.slave = frame.slave();
-    s.point = std::string_view(name_.data(), end.size < name_.size() ? end.size : 0);
-    s.value = value;
-    sink.on_point(s);
-  };
-
   switch (fc) {
     case fc::kReadHoldingRegisters:
     case fc::kReadInputRegisters: {
@@ -100,4 +83,35 @@ void RawRegisterSource::extract(const Record& frame, PointSink& sink) {
   }
 }
 
-}  // namespace rtu
+}  // namespace
+
+bool carries_values(const Record& frame) {
+  if (frame.kind != RecordKind::kFrame || frame.size < 4 || !frame.crc_ok ||
+      frame.role != Role::kResponse || frame.request == nullptr || frame.is_exception() ||
+      !frame.request->crc_ok) {
+    return false;
+  }
+  const Record& request = *frame.request;
+  if (request.slave() != frame.slave() || request.function() != frame.function()) return false;
+  return !frame.issues.has(IssueId::kByteCount) && !request.issues.has(IssueId::kByteCount);
+}
+
+void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
+  if (!carries_values(frame)) return;
+  const std::size_t first = out.size();
+  for_each_raw_value(frame, [&](std::string_view space, std::uint32_t addr, double value) {
+    const std::size_t i = out.size() - first;
+    if (i == names_.size()) names_.emplace_back();
+    names_[i].assign(space);
+    fmt::format_to(std::back_inserter(names_[i]), " 0x{:04X}", addr);
+    PointValue v;
+    v.t = frame.t_start;
+    v.slave = frame.slave();
+    v.value = value;
+    out.push_back(v);
+  });
+  // Named once all are in: growing names_ above may move the strings.
+  for (std::size_t i = first; i < out.size(); ++i) out[i].point = names_[i - first];
+}
+
+}  // namespace rtu::dissect

@@ -1,8 +1,8 @@
-// The report's PointSource for known devices, with the bundled maps of dissectors/: named,
-// scaled points with units for mapped slaves, raw registers for the others, values only
-// from confirmed, trustworthy exchanges; the identifier's confidence rule; and the time
-// axis labels of the HTML charts.
-#include "dissect/device_point_source.hpp"
+// The device stage with the bundled maps of dissectors/: named, scaled points with units for
+// mapped slaves, raw registers for the others, values only from confirmed, trustworthy
+// exchanges, device issues on the record and in the report's counts; the identifier's
+// confidence rule; and the time axis labels of the HTML charts.
+#include "dissect/device_stage.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,6 @@
 #include "dissect/map_identifier.hpp"
 #include "dissect_test_support.hpp"
 #include "report/findings.hpp"
-#include "report/raw_register_source.hpp"
 #include "report/svg_chart.hpp"
 #include "report/traffic_stats.hpp"
 
@@ -28,10 +27,15 @@ struct Sample {
   std::string unit;
 };
 
-class Collect : public PointSink {
+// What the sinks after the stage see: every value, and the last record's issues.
+class Collect : public RecordSink {
  public:
-  void on_point(const PointSample& s) override {
-    samples.push_back({s.t, s.slave, std::string(s.point), s.value, std::string(s.unit)});
+  void on_record(Record& r) override {
+    issues = r.issues;
+    if (r.device == nullptr) return;
+    for (const PointValue& v : r.device->values) {
+      samples.push_back({v.t, v.slave, std::string(v.point), v.value, std::string(v.unit)});
+    }
   }
   [[nodiscard]] const Sample* find(std::string_view point) const {
     for (const auto& s : samples) {
@@ -40,32 +44,34 @@ class Collect : public PointSink {
     return nullptr;
   }
   std::vector<Sample> samples;
+  IssueSet issues;
 };
 
-// Runs request/response pairs (hex without CRC) through a source, like the pipeline would:
-// the response points at its request and starts later.
+// Runs request/response pairs (hex without CRC) through a device stage, like the pipeline
+// would: the response points at its request and starts later.
 class Exchange {
  public:
-  explicit Exchange(PointSource& source) : source_(source) {}
+  explicit Exchange(DeviceTable& table, bool collect_values = true)
+      : stage_(table, sink, collect_values) {}
   void run(std::string_view request_hex, std::string_view response_hex) {
     request_ = made_frame(request_hex, Role::kRequest, seq_++);
     request_.t_start = t_;
-    source_.extract(request_, sink);
+    stage_.on_record(request_);
     Record response = made_frame(response_hex, Role::kResponse, seq_++);
     response.t_start = t_ + 20 * kNanosPerMilli;
     response.request = &request_;
-    source_.extract(response, sink);
+    stage_.on_record(response);
     t_ += kNanosPerSecond;
   }
   // A request nobody answers: it carries no confirmed value.
   void request_only(std::string_view request_hex) {
     request_ = made_frame(request_hex, Role::kRequest, seq_++);
-    source_.extract(request_, sink);
+    stage_.on_record(request_);
   }
   Collect sink;
 
  private:
-  PointSource& source_;
+  DeviceStage stage_;
   Record request_;
   std::uint64_t seq_ = 0;
   Nanos t_ = 5 * kNanosPerSecond;
@@ -88,10 +94,9 @@ const DeviceMap& map(std::string_view model) {
 // Slave 1 is a YW2050 named by the user; every other slave is raw registers.
 class MixedBus : public ::testing::Test {
  protected:
-  MixedBus() { source.assign(1, map("yw2050"), ModelOrigin::kConfigured); }
-  RawRegisterSource raw;
-  DevicePointSource source{&raw};
-  Exchange ex{source};
+  MixedBus() { table.assign(1, map("yw2050"), ModelOrigin::kConfigured); }
+  DeviceTable table;
+  Exchange ex{table};
 };
 
 TEST_F(MixedBus, Yw2050FrequencyIsNamedScaledAndInHertz) {
@@ -102,12 +107,12 @@ TEST_F(MixedBus, Yw2050FrequencyIsNamedScaledAndInHertz) {
   EXPECT_EQ(ex.sink.samples[0].slave, 1U);
   // At the start of the response.
   EXPECT_EQ(ex.sink.samples[0].t, 5 * kNanosPerSecond + 20 * kNanosPerMilli);
-  EXPECT_EQ(source.device_model(1), "yw2050");
-  EXPECT_FALSE(source.device_model_identified(1));
+  EXPECT_EQ(table.model(1), "yw2050");
+  EXPECT_FALSE(table.identified(1));
 }
 
-TEST(DevicePointSource, VoltagesScaleByThePtRatioLearnedFromTheTraffic) {
-  DevicePointSource source(nullptr);
+TEST(DeviceStage, VoltagesScaleByThePtRatioLearnedFromTheTraffic) {
+  DeviceTable source;
   source.assign(1, map("yw2050"), ModelOrigin::kConfigured);
   Exchange ex(source);
   ex.run("01 03 00 00 00 01", "01 03 02 59 C4");  // Ua raw 22980 × 0.01 V, PT default 1
@@ -124,29 +129,30 @@ TEST(DevicePointSource, VoltagesScaleByThePtRatioLearnedFromTheTraffic) {
   EXPECT_NEAR(ex.sink.find("Ua")->value, 2298.0, 1e-9);
 }
 
-TEST(DevicePointSource, Th900SetValueLeavesTheSpareRegisterOut) {
-  DevicePointSource source(nullptr);
+TEST(DeviceStage, Th900SetValueLeavesTheSpareRegisterOut) {
+  DeviceTable source;
   source.assign(3, map("th900"), ModelOrigin::kIdentified);
   Exchange ex(source);
   ex.run("03 03 00 00 00 02", "03 03 04 02 BC 00 00");
   expect_only(ex.sink, "SV", 70.0, "");  // the manual does not say °C or °F
-  EXPECT_EQ(source.device_model(3), "th900");
-  EXPECT_TRUE(source.device_model_identified(3));
+  EXPECT_EQ(source.model(3), "th900");
+  EXPECT_TRUE(source.identified(3));
 }
 
 TEST_F(MixedBus, SlavesWithoutAMapGoToTheRawSource) {
   ex.run("07 03 00 32 00 01", "07 03 02 12 34");
   expect_only(ex.sink, "holding 0x0032", 0x1234, "");
-  EXPECT_EQ(source.device_model(7), "");
+  EXPECT_EQ(table.model(7), "");
 
-  DevicePointSource without_fallback(nullptr);
-  Exchange none(without_fallback);
+  // Frame writers need no values: a stage that does not collect them gives none.
+  Exchange none(table, false);
   none.run("07 03 00 32 00 01", "07 03 02 12 34");
+  none.run("01 03 00 36 00 01", "01 03 02 B6 E0");
   EXPECT_TRUE(none.sink.samples.empty());
 }
 
-TEST(DevicePointSource, WritesCountOnlyOnceConfirmed) {
-  DevicePointSource source(nullptr);
+TEST(DeviceStage, WritesCountOnlyOnceConfirmed) {
+  DeviceTable source;
   source.assign(3, map("th900"), ModelOrigin::kConfigured);
   Exchange ex(source);
   ex.request_only("03 06 00 00 03 E8");  // SV = 100.0, never answered
@@ -155,8 +161,8 @@ TEST(DevicePointSource, WritesCountOnlyOnceConfirmed) {
   expect_only(ex.sink, "SV", 100.0, "");
 }
 
-TEST(DevicePointSource, ExceptionsBadCrcAndUndefinedAddressesCarryNoValue) {
-  DevicePointSource source(nullptr);
+TEST(DeviceStage, ExceptionsBadCrcAndUndefinedAddressesCarryNoValue) {
+  DeviceTable source;
   source.assign(3, map("th900"), ModelOrigin::kConfigured);
   Exchange ex(source);
   ex.run("03 03 00 00 00 02", "03 83 02");  // exception
@@ -172,13 +178,14 @@ TEST(DevicePointSource, ExceptionsBadCrcAndUndefinedAddressesCarryNoValue) {
   response.crc_ok = false;
   response.request = &request;
   Collect sink;
-  source.extract(response, sink);
+  DeviceStage stage(source, sink, true);
+  stage.on_record(request);
+  stage.on_record(response);
   EXPECT_TRUE(sink.samples.empty());
 }
 
-TEST(DevicePointSource, ReportsUseTheDevicesOwnExceptionMeanings) {
-  RawRegisterSource raw;
-  DevicePointSource source(&raw);
+TEST(DeviceStage, ReportsUseTheDevicesOwnExceptionMeanings) {
+  DeviceTable source;
   source.assign(4, map("yakotec"), ModelOrigin::kConfigured);
   TrafficStats stats(&source);
   std::uint64_t seq = 0;
@@ -216,6 +223,43 @@ TEST(DevicePointSource, ReportsUseTheDevicesOwnExceptionMeanings) {
   EXPECT_NE(causes[5].find("register map in the master"), std::string::npos) << causes[5];
 }
 
+TEST(DeviceStage, DeviceIssuesReachTheRecordAndEveryReportCount) {
+  DeviceTable table;
+  table.assign(3, map("th900"), ModelOrigin::kConfigured);
+  TrafficStats stats(&table);
+  DeviceStage stage(table, stats, true);
+  std::uint64_t seq = 0;
+  Nanos t = kNanosPerSecond;
+  for (int i = 0; i < 2; ++i) {
+    // 0x0015 is no TH900 register: undefined_register on the request.
+    Record request = made_frame("03 03 00 15 00 01", Role::kRequest, seq++);
+    Record response = made_frame("03 03 02 00 05", Role::kResponse, seq++);
+    request.t_start = t;
+    response.t_start = t + 20 * kNanosPerMilli;
+    response.request = &request;
+    stage.on_record(request);
+    EXPECT_TRUE(request.issues.has(IssueId::kUndefinedRegister));
+    EXPECT_EQ(request.device, nullptr);  // only valid while the sinks after the stage run
+    stage.on_record(response);
+    t += kNanosPerSecond;
+  }
+  // Slave 9 has no map: the same read is plain Modbus, no device issue.
+  Record request = made_frame("09 03 00 15 00 01", Role::kRequest, seq++);
+  request.t_start = t;
+  stage.on_record(request);
+  EXPECT_FALSE(request.issues.has(IssueId::kUndefinedRegister));
+
+  EXPECT_EQ(stats.totals().issues[IssueId::kUndefinedRegister], 2U);
+  ASSERT_NE(stats.slave(3), nullptr);
+  EXPECT_EQ(stats.slave(3)->issues[IssueId::kUndefinedRegister], 2U);
+  ASSERT_NE(stats.slave(9), nullptr);
+  EXPECT_EQ(stats.slave(9)->issues[IssueId::kUndefinedRegister], 0U);
+  IssueCounts over_time;
+  for (std::size_t b = 0; b < stats.timeline().size(); ++b)
+    over_time.merge(stats.timeline()[b].issues);
+  EXPECT_EQ(over_time[IssueId::kUndefinedRegister], 2U);
+}
+
 SlaveRanking ranking(std::uint64_t requests, std::vector<double> scores) {
   SlaveRanking r;
   r.slave = 1;
@@ -230,8 +274,8 @@ SlaveRanking ranking(std::uint64_t requests, std::vector<double> scores) {
   return r;
 }
 
-TEST(DevicePointSource, IdentifiedModelsNeverReplaceConfiguredOnes) {
-  DevicePointSource source(nullptr);
+TEST(DeviceStage, IdentifiedModelsNeverReplaceConfiguredOnes) {
+  DeviceTable source;
   source.assign(1, map("yw2300"), ModelOrigin::kConfigured);
   SlaveRanking one = ranking(24, {100.0, 10.0});  // slave 1: the traffic says th900
   SlaveRanking two = one;
@@ -240,10 +284,10 @@ TEST(DevicePointSource, IdentifiedModelsNeverReplaceConfiguredOnes) {
   three.slave = 3;
   source.assign_identified({one, two, three});
   ASSERT_EQ(one.maps[0].map->model, "th900");
-  EXPECT_EQ(source.device_model(1), "yw2300");
-  EXPECT_FALSE(source.device_model_identified(1));
-  EXPECT_EQ(source.device_model(2), "th900");
-  EXPECT_TRUE(source.device_model_identified(2));
+  EXPECT_EQ(source.model(1), "yw2300");
+  EXPECT_FALSE(source.identified(1));
+  EXPECT_EQ(source.model(2), "th900");
+  EXPECT_TRUE(source.identified(2));
   EXPECT_EQ(source.map_of(3), nullptr);  // not confident
 }
 

@@ -1,0 +1,69 @@
+#include "dissect/device_stage.hpp"
+
+#include <cmath>
+
+namespace rtu::dissect {
+namespace {
+
+// A value to the point's decimals, as the decode output shows it (point_format.hpp); this
+// also drops binary noise such as 22432.000000000004 from the exports.
+double to_decimals(double value, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  const double rounded = std::round(value * scale) / scale;
+  return std::isfinite(rounded) ? rounded : value;
+}
+
+// Whole points with a value: addresses the map does not define, spare registers, points a
+// transfer cuts in half and values whose scale nobody knows yet are left out.
+void append_named(const Record& frame, const std::vector<DecodedPoint>& points,
+                  std::vector<PointValue>& out) {
+  for (const DecodedPoint& p : points) {
+    if (p.point == nullptr || p.spare_index > 0 || p.partial || !p.has_value) continue;
+    if (p.unknown_vars != 0) continue;
+    PointValue v;
+    v.t = frame.t_start;
+    v.slave = frame.slave();
+    v.point = p.point->name;
+    v.value = to_decimals(p.value, p.point->decimals);
+    v.unit = p.point->unit;
+    out.push_back(v);
+  }
+}
+
+}  // namespace
+
+DeviceStage::DeviceStage(DeviceTable& table, RecordSink& next, bool collect_values)
+    : table_(table), next_(next), collect_values_(collect_values) {}
+
+void DeviceStage::on_record(Record& record) {
+  if (record.kind != RecordKind::kFrame || record.size < 2) {
+    next_.on_record(record);
+    return;
+  }
+  const std::uint8_t slave = record.slave();
+  reading_.map = table_.map_of(slave);
+  if (reading_.map != nullptr) {
+    decoder_.decode(*reading_.map, table_.state(slave), record, reading_.decoded);
+    record.issues.merge(reading_.decoded.issues);
+  } else {
+    reading_.decoded.clear();
+  }
+  reading_.values.clear();
+  if (collect_values_) collect_values(record);
+  record.device = &reading_;
+  next_.on_record(record);
+  record.device = nullptr;
+}
+
+void DeviceStage::collect_values(const Record& frame) {
+  if (reading_.map == nullptr) {
+    raw_.collect(frame, reading_.values);
+    return;
+  }
+  if (!carries_values(frame)) return;
+  // A read's values are on its response; a write's are confirmed by it.
+  append_named(frame, reading_.decoded.points, reading_.values);
+  append_named(frame, reading_.decoded.confirmed, reading_.values);
+}
+
+}  // namespace rtu::dissect

@@ -1,0 +1,20 @@
+#pragma once
+// One value a frame tells about a slave's data: a device map's point ("Ua" = 229.8 V) or,
+// for a slave without a map, a raw register or bit ("holding 0x0032" = 22980). Reports
+// follow these over time and the CSV export lists them; neither cares where they came from.
+#include <cstdint>
+#include <string_view>
+
+#include "core/time.hpp"
+
+namespace rtu::dissect {
+
+struct PointValue {
+  Nanos t = 0;  // start of the frame that carried the value
+  std::uint8_t slave = 0;
+  std::string_view point;  // valid while the record it hangs on is
+  double value = 0.0;
+  std::string_view unit;  // empty for raw values
+};
+
+}  // namespace rtu::dissect

@@ -1,0 +1,31 @@
+#pragma once
+// The values of a slave that has no device map: raw 16-bit registers and single bits at
+// their protocol addresses, named "holding 0x0032", "input 0x0032", "coil 0x0010",
+// "discrete 0x0010". Read values come from normal responses to FC01-04 (the request gives
+// the start address); written values from the normal responses to FC05, FC06, FC15, FC16
+// (the write is confirmed). Only frames that carry_values() and whose byte counts fit their
+// quantities exactly give values: a value is reported only when the bytes are trustworthy.
+#include <string>
+#include <vector>
+
+#include "dissect/point_value.hpp"
+#include "framing/record.hpp"
+
+namespace rtu::dissect {
+
+// Whether `frame` is a response whose data can be trusted as values: a normal response with
+// a good CRC to a request of the same slave and function with a good CRC, neither with a
+// byte count that contradicts its frame.
+bool carries_values(const Record& frame);
+
+class RawValues {
+ public:
+  // Appends the values `response` carries to `out`. Their names live in this object until
+  // the next call.
+  void collect(const Record& response, std::vector<PointValue>& out);
+
+ private:
+  std::vector<std::string> names_;  // reused: short names stay in their strings' own storage
+};
+
+}  // namespace rtu::dissect

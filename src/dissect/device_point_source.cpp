@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "modbus/data_access.hpp"
+
 namespace rtu::dissect {
 namespace {
 
@@ -61,9 +63,7 @@ void DevicePointSource::extract(const Record& frame, PointSink& sink) {
   if (request.slave() != frame.slave() || request.function() != frame.function()) return;
   if (frame.issues.has(IssueId::kByteCount) || request.issues.has(IssueId::kByteCount)) return;
 
-  const std::uint8_t fc = frame.function();
-  const bool write = fc == 5 || fc == 6 || fc == 15 || fc == 16;
-  if (!write) {
+  if (data_access(request, nullptr).write() == nullptr) {
     decoder_.decode(*slave.map, slave.state, frame, decoded_);
     deliver(frame, decoded_, sink);
     return;

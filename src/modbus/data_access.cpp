@@ -2,7 +2,7 @@
 #include "modbus/data_access.hpp"
 
 #include <algorithm>
-#include <type_traits>
+#include <span>
 #include <variant>
 
 #include "core/function_codes.hpp"

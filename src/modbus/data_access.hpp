@@ -10,7 +10,6 @@
 #include <array>
 #include <cstdint>
 #include <optional>
-#include <span>
 #include <string_view>
 
 #include "core/issue.hpp"
@@ -60,7 +59,6 @@ struct DataAccess {
   // was given, the response (kTruncated, kByteCount, kExtraBytes).
   IssueSet issues;
 
-  [[nodiscard]] std::span<const DataBlock> view() const { return {blocks.data(), count}; }
   [[nodiscard]] const DataBlock* begin() const { return blocks.data(); }
   [[nodiscard]] const DataBlock* end() const { return blocks.data() + count; }
   [[nodiscard]] bool empty() const { return count == 0; }

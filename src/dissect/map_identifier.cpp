@@ -3,27 +3,21 @@
 #include <algorithm>
 #include <cmath>
 
+#include "modbus/data_access.hpp"
+
 namespace rtu::dissect {
 namespace {
 
-std::uint16_t be16(const Record& r, std::size_t at) {
-  return static_cast<std::uint16_t>((r.storage[at] << 8U) | r.storage[at + 1]);
-}
-
-// Start address and quantity (in the function's own counting) of a request that has them.
-bool request_range(const Record& r, std::uint32_t& start, std::uint32_t& quantity) {
-  const std::uint8_t fc = r.function();
-  if (r.size < 8) return false;
-  start = be16(r, 2);
-  if (fc == 5 || fc == 6) {
-    quantity = 1;
-    return true;
+// How many of a space's addresses a request's ranges cover. A register quantity spans two
+// addresses of a byte-addressed space.
+Coverage access_coverage(const Space& space, const DataAccess& access) {
+  Coverage total;
+  for (const DataBlock& b : access) {
+    const Coverage c = coverage(space, b.addr, b.qty, !is_bit_table(b.table));
+    total.units += c.units;
+    total.defined += c.defined;
   }
-  if ((fc >= 1 && fc <= 4) || fc == 15 || fc == 16) {
-    quantity = be16(r, 4);
-    return true;
-  }
-  return false;
+  return total;
 }
 
 bool contains(std::string_view text, std::string_view word) {
@@ -90,21 +84,16 @@ void MapIdentifier::on_record(Record& record) {
 }
 
 void MapIdentifier::on_request(const Record& request, std::vector<Candidate>& candidates) {
+  const DataAccess access = data_access(request, nullptr);
   for (auto& c : candidates) {
     const DeviceMap& map = *c.evidence.map;
     ++c.evidence.requests;
     const Space* space = map.space_for(request.function());
     if (space == nullptr) continue;
     ++c.evidence.listed_function;
-    std::uint32_t start = 0;
-    std::uint32_t quantity = 0;
-    if (request_range(request, start, quantity)) {
-      const std::uint8_t fc = request.function();
-      const bool registers = fc == 3 || fc == 4 || fc == 6 || fc == 16;
-      const Coverage cov = coverage(*space, start, quantity, registers);
-      c.evidence.units += cov.units;
-      c.evidence.defined_units += cov.defined;
-    }
+    const Coverage cov = access_coverage(*space, access);
+    c.evidence.units += cov.units;
+    c.evidence.defined_units += cov.defined;
     decoder_.decode(map, c.state, request, decoded_);
     for (const auto& p : decoded_.points) {
       if (p.point == nullptr || !p.has_value || p.spare_index > 0) continue;
@@ -123,19 +112,15 @@ void MapIdentifier::on_request(const Record& request, std::vector<Candidate>& ca
 
 void MapIdentifier::on_response(const Record& response, std::vector<Candidate>& candidates) {
   const Record& request = *response.request;
+  const DataAccess access = data_access(request, nullptr);
   for (auto& c : candidates) {
     const DeviceMap& map = *c.evidence.map;
     const Space* space = map.space_for(request.function());
     if (response.is_exception()) {
       const std::uint8_t code = response.storage[2];
       if (space == nullptr && rejects_function(map, code)) ++c.evidence.rejected_function;
-      std::uint32_t start = 0;
-      std::uint32_t quantity = 0;
-      if (space != nullptr && rejects_address(map, code) &&
-          request_range(request, start, quantity)) {
-        const std::uint8_t fc = request.function();
-        const bool registers = fc == 3 || fc == 4 || fc == 6 || fc == 16;
-        const Coverage cov = coverage(*space, start, quantity, registers);
+      if (space != nullptr && rejects_address(map, code)) {
+        const Coverage cov = access_coverage(*space, access);
         c.evidence.rejected_units += cov.units - cov.defined;
       }
       continue;

@@ -9,7 +9,9 @@
 #include <span>
 #include <sstream>
 
+#include "core/function_codes.hpp"
 #include "core/input_error.hpp"
+#include "modbus/data_access.hpp"
 
 namespace rtu::dissect {
 namespace {
@@ -71,19 +73,17 @@ std::string hex_addr(std::uint32_t a) {
   return fmt::format("0x{:04X}", a);
 }
 
-// The space kind a function code implies, if it addresses data at all.
+// The space kind a function code implies, if a map may list it. FC22 and FC23 address
+// holding registers too, but maps do not list them: device decoding delivers either what a
+// transaction read or what it wrote, and FC23 does both.
 std::optional<SpaceKind> kind_of_function(std::int64_t fc) {
-  switch (fc) {
-    case 1:
-    case 2:
-    case 5:
-    case 15: return SpaceKind::kBits;
-    case 3:
-    case 4:
-    case 6:
-    case 16: return SpaceKind::kRegisters;
-    default: return std::nullopt;
+  if (fc < 0 || fc > 0xFF || fc == fc::kMaskWriteRegister ||
+      fc == fc::kReadWriteMultipleRegisters) {
+    return std::nullopt;
   }
+  const auto table = data_table_of(static_cast<std::uint8_t>(fc));
+  if (!table) return std::nullopt;
+  return is_bit_table(*table) ? SpaceKind::kBits : SpaceKind::kRegisters;
 }
 
 class Loader {

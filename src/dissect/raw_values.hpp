@@ -1,10 +1,10 @@
 #pragma once
 // The values of a slave that has no device map: raw 16-bit registers and single bits at
 // their protocol addresses, named "holding 0x0032", "input 0x0032", "coil 0x0010",
-// "discrete 0x0010". Read values come from normal responses to FC01-04 (the request gives
-// the start address); written values from the normal responses to FC05, FC06, FC15, FC16
-// (the write is confirmed). Only frames that carry_values() and whose byte counts fit their
-// quantities exactly give values: a value is reported only when the bytes are trustworthy.
+// "discrete 0x0010", as data_access() reads them. Read values come from normal responses to
+// FC01-04 and FC23; written values from requests that a normal response confirms (FC05, 06,
+// 15, 16, 23). Only frames that carry_values() and whose byte counts fit their quantities
+// exactly give values: a value is reported only when the bytes are trustworthy.
 #include <string>
 #include <vector>
 

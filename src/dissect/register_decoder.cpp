@@ -5,6 +5,8 @@
 #include <cstring>
 #include <span>
 
+#include "modbus/data_access.hpp"
+
 namespace rtu::dissect {
 namespace {
 
@@ -12,49 +14,6 @@ using Bytes = std::span<const std::uint8_t>;
 
 std::uint16_t be16(Bytes b, std::size_t at) {
   return static_cast<std::uint16_t>((b[at] << 8U) | b[at + 1]);
-}
-
-// The few request fields a dissector needs, read straight from the ADU (address, function,
-// fields..., CRC). Lengths are checked; a field that is not there is nullopt.
-struct RequestFields {
-  std::uint8_t function = 0;
-  std::optional<std::uint16_t> addr;
-  std::optional<std::uint16_t> quantity_or_value;  // FC01-04, 15, 16: quantity; FC05/06: value
-  std::optional<std::uint8_t> byte_count;          // FC15, 16
-  Bytes data;                                      // FC15, 16: what follows the byte count
-};
-
-RequestFields request_fields(const Record& r) {
-  RequestFields f;
-  const Bytes all = r.bytes();
-  if (all.size() < 4) return f;
-  const Bytes pdu = all.subspan(1, all.size() - 3);  // without address and CRC
-  f.function = pdu[0];
-  if (pdu.size() >= 3) f.addr = be16(pdu, 1);
-  if (pdu.size() >= 5) f.quantity_or_value = be16(pdu, 3);
-  if ((f.function == 15 || f.function == 16) && pdu.size() >= 6) {
-    f.byte_count = pdu[5];
-    f.data = pdu.subspan(6);
-  }
-  return f;
-}
-
-// Response data after the byte count of FC01-04, limited to what the frame holds.
-Bytes response_data(const Record& r, bool& count_ok) {
-  const Bytes all = r.bytes();
-  count_ok = false;
-  if (all.size() < 5) return {};
-  const std::size_t count = all[2];
-  const std::size_t available = all.size() - 5;  // address, function, count, CRC×2
-  count_ok = count == available;
-  return all.subspan(3, std::min(count, available));
-}
-
-bool is_read(std::uint8_t fc) {
-  return fc >= 1 && fc <= 4;
-}
-bool is_write(std::uint8_t fc) {
-  return fc == 5 || fc == 6 || fc == 15 || fc == 16;
 }
 
 struct BlockContext {
@@ -153,13 +112,12 @@ void decode_registers(BlockContext& c, std::uint32_t start, Bytes data) {
   }
 }
 
-// Decodes `count` bits (coils or discrete inputs, LSB of the first byte first) at `start`.
-void decode_bits(BlockContext& c, std::uint32_t start, std::size_t count, Bytes data) {
-  count = std::min(count, data.size() * 8);
-  for (std::size_t k = 0; k < count; ++k) {
+// Decodes bits (coils or discrete inputs) starting at `start`.
+void decode_bits(BlockContext& c, std::uint32_t start, BitView bits) {
+  for (std::size_t k = 0; k < bits.size(); ++k) {
     DecodedPoint d;
     d.addr = start + static_cast<std::uint32_t>(k);
-    d.raw = (static_cast<unsigned>(data[k / 8]) >> (k % 8)) & 1U;
+    d.raw = bits[k] ? 1U : 0U;
     d.point = c.space.point_at(d.addr);
     if (d.point == nullptr) {
       if (c.flag_undefined) c.out.issues.add(IssueId::kUndefinedRegister);
@@ -172,6 +130,15 @@ void decode_bits(BlockContext& c, std::uint32_t start, std::size_t count, Bytes 
       }
     }
     c.out.points.push_back(d);
+  }
+}
+
+// Decodes the values a block carries, as far as its bytes go.
+void decode_block(BlockContext& c, const DataBlock& b) {
+  if (is_bit_table(b.table)) {
+    decode_bits(c, b.addr, b.bits);
+  } else {
+    decode_registers(c, b.addr, b.words.bytes());
   }
 }
 
@@ -227,47 +194,16 @@ void apply_scale_by(Decoded& d, const SlaveState& state) {
   }
 }
 
-// Decodes what a write request puts on the device into `out` (no learning).
-void decode_write_request(const DeviceMap& map, const Space& space, SlaveState& state,
-                          const Record& req, Decoded& out) {
-  const RequestFields f = request_fields(req);
-  if (!f.addr || !f.quantity_or_value) return;
-  BlockContext c{map, space, state, out, true, true};
-  const std::uint8_t value_bytes[2] = {static_cast<std::uint8_t>(*f.quantity_or_value >> 8U),
-                                       static_cast<std::uint8_t>(*f.quantity_or_value & 0xFFU)};
-  switch (f.function) {
-    case 5: {
-      // FF00 = on, 0000 = off (Modbus Application Protocol §6.5); anything else is invalid.
-      const std::uint16_t v = *f.quantity_or_value;
-      if (v != 0xFF00 && v != 0x0000) {
-        out.issues.add(IssueId::kBadValue);
-        return;
-      }
-      const std::uint8_t bit = v == 0xFF00 ? 1 : 0;
-      decode_bits(c, *f.addr, 1, Bytes(&bit, 1));
-      return;
-    }
-    case 6: decode_registers(c, *f.addr, Bytes(value_bytes, 2)); return;
-    case 15:
-    case 16: {
-      if (!f.byte_count) return;
-      const std::size_t quantity = *f.quantity_or_value;
-      const std::size_t expected = f.function == 16 ? quantity * 2 : (quantity + 7) / 8;
-      if (*f.byte_count != expected || *f.byte_count != f.data.size()) {
-        out.issues.add(IssueId::kByteCount);
-      }
-      // As far as the frame's bytes go: never past the quantity, the count or the data.
-      std::size_t n = std::min<std::size_t>({expected, *f.byte_count, f.data.size()});
-      if (f.function == 16) {
-        n -= n % 2;
-        decode_registers(c, *f.addr, f.data.first(n));
-      } else {
-        decode_bits(c, *f.addr, quantity, f.data.first(n));
-      }
-      return;
-    }
-    default: return;
+// Decodes what a write block puts on the device into `c.out` (no learning).
+void decode_write(BlockContext& c, const DataBlock& b) {
+  // FC05 takes FF00 = on, 0000 = off (Modbus Application Protocol §6.5); anything else is
+  // invalid and writes nothing.
+  if (b.invalid_value) {
+    c.out.issues.add(IssueId::kBadValue);
+    return;
   }
+  if (!b.count_fits) c.out.issues.add(IssueId::kByteCount);
+  if (b.has_values) decode_block(c, b);
 }
 
 }  // namespace
@@ -304,16 +240,15 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
       return;
     }
     out.space = space;
-    if (is_read(fc)) {
-      const RequestFields f = request_fields(frame);
-      if (f.addr && f.quantity_or_value) {
-        BlockContext c{map, *space, state, out, false, true};
-        check_read_range(c, *f.addr, *f.quantity_or_value);
+    for (const DataBlock& b : data_access(frame, nullptr)) {
+      BlockContext c{map, *space, state, out, b.write, true};
+      if (b.write) {
+        decode_write(c, b);
+      } else {
+        check_read_range(c, b.addr, b.qty);
       }
-    } else if (is_write(fc)) {
-      decode_write_request(map, *space, state, frame, out);
-      apply_scale_by(out, state);
     }
+    apply_scale_by(out, state);
     return;
   }
 
@@ -321,29 +256,25 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
   const Record& req = *frame.request;
   if (req.function() != fc || !req.crc_ok) return;
   out.space = space;
-  if (is_read(fc)) {
-    const RequestFields f = request_fields(req);
-    if (!f.addr || !f.quantity_or_value) return;
-    bool count_ok = false;
-    const Bytes data = response_data(frame, count_ok);
-    // Undefined addresses were flagged on the request; here they are only shown.
-    BlockContext c{map, *space, state, out, false, false};
-    if (space->kind == SpaceKind::kBits) {
-      decode_bits(c, *f.addr, *f.quantity_or_value, data);
-    } else {
-      decode_registers(c, *f.addr, data.first(data.size() - data.size() % 2));
-    }
-    // Learn first, so that a read that brings PT and the voltages together scales them.
-    apply_learning(out, state);
-    apply_scale_by(out, state);
-  } else if (is_write(fc)) {
-    // The normal response confirms the write: learn what it set.
-    decode_write_request(map, *space, state, req, scratch_);
+  const DataAccess access = data_access(req, &frame);
+  // The normal response confirms a write: learn what it set. Before any read, as the device
+  // writes first (FC23).
+  if (const DataBlock* w = access.write()) {
+    BlockContext c{map, *space, state, scratch_, true, true};
+    decode_write(c, *w);
     scratch_.map = &map;
     apply_learning(scratch_, state);
     apply_scale_by(scratch_, state);
     out.confirmed.assign(scratch_.points.begin(), scratch_.points.end());
     scratch_.clear();
+  }
+  if (const DataBlock* r = access.read(); r != nullptr && r->has_values) {
+    // Undefined addresses were flagged on the request; here they are only shown.
+    BlockContext c{map, *space, state, out, false, false};
+    decode_block(c, *r);
+    // Learn first, so that a read that brings PT and the voltages together scales them.
+    apply_learning(out, state);
+    apply_scale_by(out, state);
   }
 }
 

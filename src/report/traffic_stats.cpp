@@ -5,6 +5,7 @@
 #include "core/chunk.hpp"
 #include "core/function_codes.hpp"
 #include "dissect/device_stage.hpp"
+#include "modbus/data_access.hpp"
 
 namespace rtu {
 
@@ -117,31 +118,14 @@ RequestKind kind_of(const Record& request) {
   RequestKind k;
   k.slave = request.slave();
   k.function = request.function();
-  const auto b = request.bytes();
-  auto word = [&](std::size_t i) { return static_cast<std::uint16_t>((b[i] << 8U) | b[i + 1]); };
-  switch (k.function) {
-    case 0x01:
-    case 0x02:
-    case 0x03:
-    case 0x04:
-    case 0x0F:
-    case 0x10:
-    case 0x17:
-      if (b.size() >= 8) {
-        k.has_range = true;
-        k.addr = word(2);
-        k.qty = word(4);
-      }
-      break;
-    case 0x05:
-    case 0x06:
-      if (b.size() >= 8) {
-        k.has_range = true;
-        k.addr = word(2);
-        k.qty = 1;
-      }
-      break;
-    default: break;
+  // The range read, else the one written: FC23 is told apart by what it reads. A mask write
+  // (FC22) is listed by its function alone, as RequestKind documents.
+  const DataAccess access = data_access(request, nullptr);
+  const DataBlock* b = access.read() != nullptr ? access.read() : access.write();
+  if (b != nullptr && k.function != fc::kMaskWriteRegister) {
+    k.has_range = true;
+    k.addr = b->addr;
+    k.qty = b->qty;
   }
   return k;
 }

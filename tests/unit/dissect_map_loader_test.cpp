@@ -185,6 +185,21 @@ functions = [1, 4]
   EXPECT_EQ(e, expected);
 }
 
+TEST(MapLoader, OnlyTheEightClassicDataFunctions) {
+  // FC22 and FC23 address holding registers too, but a map cannot list them; nor FC07.
+  const auto e = errors_of(std::string(kBase) + R"(
+[space.other]
+functions = [22, 23, 7, 259]
+)");
+  const std::vector<std::string> expected = {
+      "bad.toml:18: [space.other]: functions: 22 is not one of 1, 2, 3, 4, 5, 6, 15, 16",
+      "bad.toml:18: [space.other]: functions: 23 is not one of 1, 2, 3, 4, 5, 6, 15, 16",
+      "bad.toml:18: [space.other]: functions: 7 is not one of 1, 2, 3, 4, 5, 6, 15, 16",
+      "bad.toml:18: [space.other]: functions: 259 is not one of 1, 2, 3, 4, 5, 6, 15, 16",
+  };
+  EXPECT_EQ(e, expected);
+}
+
 TEST(MapLoader, BitFieldsMustFitAndNotOverlap) {
   const auto e = errors_of(std::string(kBase) + R"(
 [[space.regs.point]]

@@ -8,6 +8,8 @@
 #include <memory>
 #include <optional>
 #include <random>
+#include <tuple>
+#include <vector>
 
 #include "bus_builder.hpp"
 #include "dissect/device_stage.hpp"
@@ -296,6 +298,56 @@ TEST(TrafficStats, RawRegisterValuesBecomePointSeries) {
   ASSERT_NE(constant, points.end());
   EXPECT_EQ(constant->second.changes, 0U);
   EXPECT_EQ(constant->second.last, 0x1234);
+}
+
+TEST(TrafficStats, ReadWriteMultipleGivesWrittenThenReadRegisters) {
+  BusBuilder bus;
+  // Slave 4 writes 0x00AA, 0x00BB to 0x0003-0x0004, then reads 0x0003-0x0005.
+  bus.add(with_crc({4, 0x17, 0, 3, 0, 3, 0, 3, 0, 2, 4, 0, 0xAA, 0, 0xBB}), 50 * kMs);
+  bus.add(with_crc({4, 0x17, 6, 0x12, 0x34, 0x56, 0x78, 0x9A, 0xBC}), 10 * kMs);
+  const Analysis a = analyse(bus);
+  const auto& points = a.stats->points();
+  EXPECT_EQ(points.size(), 3U);
+  // Written, then read back in the same transaction: the read is the later value.
+  const std::vector<std::tuple<const char*, std::uint64_t, double>> expected = {
+      {"holding 0x0003", 2, 0x1234}, {"holding 0x0004", 2, 0x5678}, {"holding 0x0005", 1, 0x9ABC}};
+  for (const auto& [name, samples, last] : expected) {
+    const auto it = points.find({std::uint8_t{4}, std::string(name)});
+    ASSERT_NE(it, points.end()) << name;
+    EXPECT_EQ(it->second.samples, samples) << name;
+    EXPECT_EQ(it->second.last, last) << name;
+  }
+
+  const auto& kinds = a.stats->request_kinds();
+  ASSERT_EQ(kinds.size(), 1U);
+  const auto& [kind, k] = *kinds.begin();
+  EXPECT_EQ(kind.function, 0x17);
+  EXPECT_TRUE(kind.has_range);  // the range it reads
+  EXPECT_EQ(kind.addr, 3);
+  EXPECT_EQ(kind.qty, 3);
+  EXPECT_EQ(k.responses, 1U);
+}
+
+TEST(TrafficStats, ReadWriteMultipleWithAWrongByteCountGivesNoValues) {
+  BusBuilder bus;
+  // Two registers answer a one-register read: the transaction's byte counts disagree, so
+  // the raw source trusts none of it, the write included.
+  bus.add(with_crc({4, 0x17, 0, 3, 0, 1, 0, 0x10, 0, 1, 2, 0, 0xAA}), 50 * kMs);
+  bus.add(with_crc({4, 0x17, 4, 0x12, 0x34, 0x56, 0x78}), 10 * kMs);
+  const Analysis a = analyse(bus);
+  EXPECT_TRUE(a.stats->points().empty());
+}
+
+TEST(TrafficStats, MaskWriteIsAKindWithoutARangeOrValue) {
+  BusBuilder bus;
+  bus.add(with_crc({4, 0x16, 0, 4, 0, 0xF2, 0, 0x25}), 50 * kMs);
+  bus.add(with_crc({4, 0x16, 0, 4, 0, 0xF2, 0, 0x25}), 10 * kMs);
+  const Analysis a = analyse(bus);
+  EXPECT_TRUE(a.stats->points().empty());
+  const auto& kinds = a.stats->request_kinds();
+  ASSERT_EQ(kinds.size(), 1U);
+  EXPECT_EQ(kinds.begin()->first.function, 0x16);
+  EXPECT_FALSE(kinds.begin()->first.has_range);
 }
 
 TEST(Findings, CrcErrorsOnOneSlave) {

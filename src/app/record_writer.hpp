@@ -10,8 +10,9 @@
 
 namespace rtu::app {
 
-// `format` is "jsonl" or "text". `annotator` (may be null) names device registers.
-// `flush_each`: every record reaches `out` at once (live output), else buffered.
+// `format` is a name in record_formats() ("text", "jsonl"; others give text). `annotator` (may be
+// null) names device registers. `flush_each`: every record reaches `out` at once (live output),
+// else buffered.
 [[nodiscard]] std::unique_ptr<RecordSink> make_record_writer(const std::string& format,
                                                              OutputStream& out,
                                                              FrameAnnotator* annotator,

@@ -36,6 +36,15 @@ const FormatEntry<Factory>* find_format(const FormatTable<Factory>& table, std::
   return nullptr;
 }
 
+// The entry called `name`, else the table's first (its default). For dispatchers behind a
+// command line that already refused other names.
+template <typename Factory>
+const FormatEntry<Factory>& find_format_or_default(const FormatTable<Factory>& table,
+                                                   std::string_view name) {
+  const auto* entry = find_format(table, name);
+  return entry != nullptr ? *entry : table.front();
+}
+
 // The first entry one of whose extensions ends `path`, or null.
 template <typename Factory>
 const FormatEntry<Factory>* find_format_for_path(const FormatTable<Factory>& table,

@@ -6,9 +6,11 @@
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/record_writer.hpp"
+#include "capture/capture_formats.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/replay.hpp"
+#include "report/record_formats.hpp"
 
 namespace rtu::app {
 namespace {
@@ -24,10 +26,9 @@ struct DecodeArgs {
 void setup_decode(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<DecodeArgs>();
   auto* cmd = app.add_subcommand("decode", "Decode a capture file into frames and transactions");
-  cmd->add_option("file", args->file, "Capture: text hex (.hex/.txt), Saleae CSV, pcap/pcapng")
-      ->required();
+  cmd->add_option("file", args->file, capture_file_help())->required();
   cmd->add_option("--format", args->format, "Output format")
-      ->check(CLI::IsMember({"text", "jsonl"}));
+      ->check(CLI::IsMember(format_names(record_formats())));
   cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
   args->line.add_to(*cmd);
   args->devices.add_to(*cmd);

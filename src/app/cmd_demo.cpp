@@ -33,6 +33,7 @@
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 #include "pipeline/replay.hpp"
+#include "report/record_formats.hpp"
 #include "serial/virtual_bus.hpp"
 
 namespace rtu::app {
@@ -230,7 +231,7 @@ void setup_demo(CLI::App& app, int& exit_code) {
                   "four-device sample)");
   args->devices.add_to(*cmd);
   cmd->add_option("--format", args->format, "Output format")
-      ->check(CLI::IsMember({"text", "jsonl"}));
+      ->check(CLI::IsMember(format_names(record_formats())));
   cmd->add_option("-w,--write", args->write_path, "Also record the demo to this pcapng file");
   cmd->add_option("--report", args->report,
                   "Also write the run's traffic report to this file (.html, .json, else text)");

@@ -8,8 +8,10 @@
 #include "app/command.hpp"
 #include "app/line_options.hpp"
 #include "capture/byte_output.hpp"
+#include "capture/capture_formats.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/replay.hpp"
+#include "report/export_formats.hpp"
 #include "report/pcap_export.hpp"
 
 namespace rtu::app {
@@ -22,11 +24,6 @@ struct ExportArgs {
   LineOptions line;
 };
 
-bool ends_with(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 void setup_export(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ExportArgs>();
   auto* cmd = app.add_subcommand(
@@ -35,16 +32,14 @@ void setup_export(CLI::App& app, int& exit_code) {
       "reads and line events on a second interface) or OUT.pcap (frames only). Open with "
       "`-o mbrtu.tcp.port:502 -o mbrtu.crc_verification:TRUE` to classify every function "
       "code and check CRCs.");
-  cmd->add_option("file", args->file, "Capture: text hex (.hex/.txt), Saleae CSV, pcap/pcapng")
-      ->required();
-  cmd->add_option("-o,--output", args->output, "Output file: .pcapng or .pcap")->required();
+  cmd->add_option("file", args->file, capture_file_help())->required();
+  cmd->add_option("-o,--output", args->output, export_output_help())->required();
   cmd->add_flag("--raw", args->raw,
                 "Also write every raw read and line event (LINKTYPE_RTAC_SERIAL; pcapng only)");
   args->line.add_to(*cmd);
   cmd->callback([args, &exit_code] {
     PcapExportOptions options;
-    options.format =
-        ends_with(args->output, ".pcap") ? PcapExportFormat::kPcap : PcapExportFormat::kPcapng;
+    options.format = export_format_for_path(args->output).factory;
     if (options.format == PcapExportFormat::kPcap && args->raw) {
       throw InputError(fmt::format(
           "{}: --raw needs a .pcapng output (classic pcap holds one link type per file)",

@@ -21,6 +21,8 @@
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
+#include "report/record_formats.hpp"
+#include "report/report_formats.hpp"
 
 namespace rtu::app {
 namespace {
@@ -143,7 +145,7 @@ void setup_live(CLI::App& app, int& exit_code) {
   args->line.add_to(*cmd, false);
   args->devices.add_to(*cmd);
   cmd->add_option("--format", args->format, "Output format")
-      ->check(CLI::IsMember({"text", "jsonl"}));
+      ->check(CLI::IsMember(format_names(record_formats())));
   cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
   cmd->add_option("--duration", args->duration_s,
                   "Stop after this many seconds (default: run "
@@ -159,7 +161,7 @@ void setup_live(CLI::App& app, int& exit_code) {
                   "report` would) and list the main findings");
   cmd->add_option("--report-format", args->report_format,
                   "Report format (default: from the file name: .html, .json, else text)")
-      ->check(CLI::IsMember({"text", "json", "html"}));
+      ->check(CLI::IsMember(format_names(report_formats())));
   cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
 }
 

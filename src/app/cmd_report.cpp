@@ -7,13 +7,14 @@
 #include "app/command.hpp"
 #include "app/identify_models.hpp"
 #include "app/line_options.hpp"
+#include "capture/capture_formats.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
 #include "pipeline/replay.hpp"
 #include "report/findings.hpp"
 #include "report/point_csv_writer.hpp"
-#include "report/report_writers.hpp"
+#include "report/report_formats.hpp"
 #include "report/traffic_stats.hpp"
 
 namespace rtu::app {
@@ -33,10 +34,9 @@ void setup_report(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand(
       "report", "Statistics, timing diagnostics and likely causes of problems for a capture");
-  cmd->add_option("file", args->file, "Capture: text hex (.hex/.txt), Saleae CSV, pcap/pcapng")
-      ->required();
+  cmd->add_option("file", args->file, capture_file_help())->required();
   cmd->add_option("--format", args->format, "Report format")
-      ->check(CLI::IsMember({"text", "json", "html"}));
+      ->check(CLI::IsMember(format_names(report_formats())));
   cmd->add_option("-o,--output", args->output, "Report file (default: standard output)");
   cmd->add_option("--csv", args->csv,
                   "Also write register values over time as CSV (time,slave,point,value,unit)");
@@ -69,13 +69,7 @@ void setup_report(CLI::App& app, int& exit_code) {
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);
     OutputStream out(args->output);
-    if (args->format == "json") {
-      write_report_json(out, stats, findings);
-    } else if (args->format == "html") {
-      write_report_html(out, stats, findings);
-    } else {
-      write_report_text(out, stats, findings);
-    }
+    find_format_or_default(report_formats(), args->format).factory(out, stats, findings);
     exit_code = 0;
   });
 }

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/issue.hpp"
-#include "report/report_writers.hpp"
+#include "report/report_formats.hpp"
 
 namespace rtu::app {
 
@@ -19,23 +19,11 @@ void RunReport::finish() {
 }
 
 std::string report_format_for(const std::string& path) {
-  const auto ends_with = [&](std::string_view suffix) {
-    return path.size() >= suffix.size() &&
-           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  if (ends_with(".html") || ends_with(".htm")) return "html";
-  if (ends_with(".json")) return "json";
-  return "text";
+  return std::string(report_format_for_path(path).name);
 }
 
 void RunReport::write(OutputStream& out, const std::string& format) const {
-  if (format == "json") {
-    write_report_json(out, stats_, findings_);
-  } else if (format == "html") {
-    write_report_html(out, stats_, findings_);
-  } else {
-    write_report_text(out, stats_, findings_);
-  }
+  find_format_or_default(report_formats(), format).factory(out, stats_, findings_);
   out.flush();
 }
 

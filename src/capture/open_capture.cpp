@@ -9,9 +9,7 @@
 #include <string_view>
 #include <utility>
 
-#include "capture/pcap_import.hpp"
 #include "capture/saleae_reader.hpp"
-#include "capture/text_hex_reader.hpp"
 #include "core/input_error.hpp"
 
 namespace rtu {
@@ -19,16 +17,6 @@ namespace {
 
 // Enough for any header line we recognise and a few blank lines before a text capture.
 constexpr std::size_t kSniffSize = 4096;
-
-bool ends_with_ci(std::string_view s, std::string_view suffix) {
-  if (s.size() < suffix.size()) return false;
-  for (std::size_t i = 0; i < suffix.size(); ++i) {
-    char c = s[s.size() - suffix.size() + i];
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c + ('a' - 'A'));
-    if (c != suffix[i]) return false;
-  }
-  return true;
-}
 
 bool is_pcap_magic(std::string_view head) {
   if (head.size() < 4) return false;
@@ -109,21 +97,14 @@ CaptureFormat detect_capture_format(const std::string& path) {
       return CaptureFormat::kTextHex;
     }
   }
-  if (ends_with_ci(path, ".csv")) return CaptureFormat::kSaleaeCsv;
-  if (ends_with_ci(path, ".pcap") || ends_with_ci(path, ".pcapng") || ends_with_ci(path, ".cap")) {
-    return CaptureFormat::kPcap;
+  if (const auto* by_extension = capture_format_for_path(path)) {
+    return by_extension->factory.format;
   }
   return CaptureFormat::kTextHex;
 }
 
-std::unique_ptr<ChunkSource> open_capture(const std::string& path, WarningSink warnings) {
-  switch (detect_capture_format(path)) {
-    case CaptureFormat::kSaleaeCsv:
-      return std::make_unique<SaleaeReader>(path, std::move(warnings));
-    case CaptureFormat::kPcap: return std::make_unique<PcapChunkSource>(path);
-    case CaptureFormat::kTextHex: break;
-  }
-  return std::make_unique<TextHexReader>(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_capture(const std::string& path, WarningSink warnings) {
+  return capture_format(detect_capture_format(path)).factory.open(path, std::move(warnings));
 }
 
 }  // namespace rtu

@@ -3,12 +3,11 @@
 #include <memory>
 #include <string>
 
+#include "capture/capture_formats.hpp"
+#include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
-#include "capture/chunk_source.hpp"
 
 namespace rtu {
-
-enum class CaptureFormat : std::uint8_t { kTextHex, kSaleaeCsv, kPcap };
 
 // Chooses the format from the file's first bytes, falling back to its extension:
 // - pcap or pcapng magic number → kPcap;
@@ -16,17 +15,17 @@ enum class CaptureFormat : std::uint8_t { kTextHex, kSaleaeCsv, kPcap };
 //   that its reader can say why it refuses it) → kSaleaeCsv;
 // - a first non-blank line that starts like a text hex line (a digit, sign, '.' or '#')
 //   → kTextHex;
-// - otherwise by extension: .csv → kSaleaeCsv, .pcap/.pcapng/.cap → kPcap, anything else
-//   → kTextHex, whose reader then says exactly where the content is not what it expects.
+// - otherwise by extension (capture_formats(): .csv → kSaleaeCsv, .pcap/.pcapng/.cap → kPcap),
+//   anything else → kTextHex, whose reader then says exactly where the content is not what
+//   it expects.
 // Throws InputError "PATH: cannot open: <strerror>" when the file cannot be read, and
 // "PATH: the file is gzip-compressed; ..." (also zstd, xz, bzip2, zip, UTF-16 text) for files
 // that no reader can use but people do hand over.
 CaptureFormat detect_capture_format(const std::string& path);
 
-// The reader for `path`. Throws InputError when the file cannot be opened or its format has no
-// reader here. pcap/pcapng files give a PcapChunkSource (frame records as chunks);
-// replay_capture reads them with PcapImporter instead, so frame records stay frames.
-std::unique_ptr<ChunkSource> open_capture(const std::string& path,
-                                          WarningSink warnings = print_warning_to_stderr);
+// The reader for `path` (its format's factory in capture_formats()). Throws InputError when
+// the file cannot be opened or its format has no reader here.
+std::unique_ptr<CaptureReader> open_capture(const std::string& path,
+                                            WarningSink warnings = print_warning_to_stderr);
 
 }  // namespace rtu

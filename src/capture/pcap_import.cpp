@@ -242,26 +242,4 @@ bool PcapImporter::next(PcapItem& out) {
   }
 }
 
-PcapChunkSource::PcapChunkSource(const std::string& path, LineSettings line)
-    : importer_(path), line_(line) {}
-
-bool PcapChunkSource::next(Chunk& out) {
-  PcapItem item;
-  do {
-    if (!importer_.next(item)) return false;
-  } while (item.kind == PcapItem::Kind::kEnd);  // chunk consumers have no use for it
-  if (precision_ == 0 || item.resolution < precision_) precision_ = item.resolution;
-  if (item.kind == PcapItem::Kind::kChunk) {
-    out = item.chunk;
-    return true;
-  }
-  const LineSettings line = importer_.declared_settings().value_or(line_);
-  out = Chunk{};
-  out.t_first_start = item.t_start;
-  out.t_end = item.t_start + static_cast<Nanos>(item.bytes.size()) * line.char_time();
-  out.bytes = item.bytes;
-  out.origin = item.offset;
-  return true;
-}
-
 }  // namespace rtu

@@ -22,7 +22,6 @@
 #include <string>
 #include <vector>
 
-#include "capture/chunk_source.hpp"
 #include "capture/pcap_reader.hpp"
 #include "core/chunk.hpp"
 #include "core/input_error.hpp"
@@ -100,24 +99,5 @@ std::optional<Nanos> parse_timeout_description(std::string_view text);
 
 // "9600 8E1" anywhere in `text` (baud, 8 data bits, parity letter, stop bits).
 std::optional<LineSettings> parse_line_description(std::string_view text);
-
-// A ChunkSource over a pcap/pcapng file for consumers that only take chunks: raw records
-// as they are, and each frame or noise record as one chunk whose first byte starts at the
-// record's time (so the framer sees the same boundaries).
-class PcapChunkSource final : public ChunkSource {
- public:
-  explicit PcapChunkSource(const std::string& path, LineSettings line = {});
-  bool next(Chunk& out) override;
-  [[nodiscard]] std::optional<LineSettings> declared_settings() const override {
-    return importer_.declared_settings();
-  }
-  [[nodiscard]] Nanos timestamp_precision() const override { return precision_; }
-  [[nodiscard]] std::string name() const override { return importer_.name(); }
-
- private:
-  PcapImporter importer_;
-  LineSettings line_;
-  Nanos precision_ = 0;
-};
 
 }  // namespace rtu

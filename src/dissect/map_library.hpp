@@ -28,7 +28,8 @@ class MapLibrary {
   static std::string bundled_dir();
 
  private:
-  std::vector<std::unique_ptr<DeviceMap>> maps_;  // stable addresses for annotators
+  std::vector<std::unique_ptr<DeviceMap>>
+      maps_;  // stable addresses for the device tables that point at them
 };
 
 }  // namespace rtu::dissect

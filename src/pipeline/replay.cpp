@@ -1,47 +1,120 @@
 #include "pipeline/replay.hpp"
 
+#include <cstdint>
+#include <span>
+#include <utility>
+
 #include "capture/open_capture.hpp"
 #include "core/input_error.hpp"
 #include "framing/timing_estimator.hpp"
 #include "pipeline/line_warnings.hpp"
-#include "pipeline/pcap_replay.hpp"
 
 namespace rtu {
+namespace {
 
-CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options,
-                           RecordSink& sink) {
-  if (detect_capture_format(path) == CaptureFormat::kPcap) {
-    return replay_pcap_capture(path, options, sink);
+// Pass 1: what the capture holds and how its reads are timed.
+class Survey final : public CaptureConsumer {
+ public:
+  void on_chunk(const Chunk& chunk) override {
+    ++chunks;
+    estimator.add(chunk);
+    line_check.add(chunk);
   }
-  // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
+  void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {}
+  void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {}
+  void on_end(Nanos /*t*/) override {}
+
   TimingEstimator estimator;
   LineCheck line_check;
+  std::uint64_t chunks = 0;
+};
+
+// Pass 2: everything into the pipeline, raw reads or frame records (see replay.hpp).
+class Feed final : public CaptureConsumer {
+ public:
+  Feed(DecodePipeline& pipeline, const ReplayOptions& options, bool use_chunks, Nanos char_time)
+      : pipeline_(pipeline), options_(options), use_chunks_(use_chunks), char_time_(char_time) {}
+
+  void on_chunk(const Chunk& chunk) override {
+    if (!use_chunks_) return;
+    if (options_.on_chunk) options_.on_chunk(chunk);
+    pipeline_.push(chunk);
+  }
+  void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
+    if (!use_chunks_) pipeline_.push_frame(adu, t_start, t_end(adu, t_start), origin);
+  }
+  void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override {
+    if (!use_chunks_) pipeline_.push_noise(bytes, t_start, t_end(bytes, t_start), origin);
+  }
+  // A live recording ends where the live run stopped: what was pending then (a request
+  // still waiting for its answer) is decided as live decided it.
+  void on_end(Nanos t) override { pipeline_.idle(t); }
+
+ private:
+  [[nodiscard]] Nanos t_end(std::span<const std::uint8_t> bytes, Nanos t_start) const {
+    return t_start + static_cast<Nanos>(bytes.size()) * char_time_;
+  }
+  DecodePipeline& pipeline_;
+  const ReplayOptions& options_;
+  bool use_chunks_;
+  Nanos char_time_;
+};
+
+}  // namespace
+
+CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
+                           RecordSink& sink) {
+  // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
   auto first =
-      options.show_warnings ? open_capture(path) : open_capture(path, [](std::string_view) {});
-  Chunk chunk;
+      options.show_warnings ? open(print_warning_to_stderr) : open([](std::string_view) {});
+  Survey survey;
   try {
-    while (first->next(chunk)) {
-      estimator.add(chunk);
-      line_check.add(chunk);
+    while (first->read(survey)) {
     }
   } catch (const InputError&) {
     // Damaged input: learn from what precedes the damage; pass 2 decodes up to it and
     // then reports the error.
   }
+  // Frame records are decoded as they are only when there are no raw reads to re-frame.
+  const bool use_chunks = survey.chunks > 0 || !first->holds_frames();
+  const Nanos precision = first->timestamp_precision();
+  const auto declared = first->declared_settings();
+  const bool exact = first->timing_kind() == TimingKind::kPerByteExact;
 
   CaptureInfo info;
-  info.source = path;
-  if (auto declared = first->declared_settings()) info.line = *declared;
+  info.source = first->name();
+  for (auto& warning : first->capture_warnings()) {
+    // Not silent: what the file lacks shows as damaged frames, and the user must know why.
+    if (options.show_warnings) print_warning_to_stderr(warning);
+    info.warnings.push_back(std::move(warning));
+  }
+  if (declared) info.line = *declared;
   if (options.overrides.baud) info.line.baud = *options.overrides.baud;
   if (options.overrides.parity) info.line.parity = *options.overrides.parity;
   if (options.overrides.stop_bits) info.line.stop_bits = *options.overrides.stop_bits;
-  const bool exact = first->timing_kind() == TimingKind::kPerByteExact;
-  info.per_byte_timing = exact || estimator.mostly_single_bytes();
-  info.timing_resolution =
-      options.resolution ? *options.resolution : estimator.resolution(first->timestamp_precision());
+  if (use_chunks) {
+    info.per_byte_timing = exact || survey.estimator.mostly_single_bytes();
+    // A live recording declares the resolution its port achieved; replay uses the same,
+    // so it frames exactly as the live run did.
+    info.timing_resolution =
+        first->declared_resolution().value_or(survey.estimator.resolution(precision));
+  } else {
+    // Frame records carry each frame's start; how well the original capture showed
+    // silences is what its export declared, else the interface's resolution.
+    info.per_byte_timing = false;
+    info.timing_resolution = first->declared_resolution().value_or(precision);
+  }
+  if (options.resolution) info.timing_resolution = *options.resolution;
   info.response_timeout = options.response_timeout;
-  add_line_warnings(info, first->declared_settings().has_value(), options.overrides, line_check,
-                    first->timestamp_precision(), options.show_warnings);
+  // A live recording says which response timeout decided its timeouts; unless the user
+  // asks for another, replay uses the same.
+  if (const auto timeout = first->declared_timeout(); timeout && !options.response_timeout_set) {
+    info.response_timeout = *timeout;
+  }
+  add_line_warnings(info, declared.has_value(), options.overrides, survey.line_check, precision,
+                    options.show_warnings);
   first.reset();
 
   // Pass 2: decode.
@@ -53,11 +126,10 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   pipeline_options.per_byte_timing = exact;
   DecodePipeline pipeline(pipeline_options, sink);
   pipeline.start(info);
-  auto second = open_capture(path, [](std::string_view) {});
+  auto second = open([](std::string_view) {});
+  Feed feed(pipeline, options, use_chunks, info.line.char_time());
   try {
-    while (second->next(chunk)) {
-      if (options.on_chunk) options.on_chunk(chunk);
-      pipeline.push(chunk);
+    while (second->read(feed)) {
     }
   } catch (...) {
     pipeline.finish();  // everything before the damage is still delivered
@@ -65,6 +137,13 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
   }
   pipeline.finish();
   return info;
+}
+
+CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options,
+                           RecordSink& sink) {
+  return replay_capture(
+      [&path](WarningSink warnings) { return open_capture(path, std::move(warnings)); }, options,
+      sink);
 }
 
 }  // namespace rtu

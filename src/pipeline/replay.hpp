@@ -1,12 +1,22 @@
 #pragma once
-// Replays a capture file through the decode pipeline in two passes: the first learns the
-// timing resolution and the line settings the file declares (bounded memory), the second
-// decodes. Options on the command line win over the file, which wins over the Modbus
-// default 9600 8E1.
+// Replays a capture file of any format (capture/capture_formats.hpp) through the decode
+// pipeline in two passes over its CaptureReader: the first learns the timing resolution and
+// the line settings the file declares (bounded memory), the second decodes. Options on the
+// command line win over the file, which wins over the Modbus default 9600 8E1.
+//
+// A capture that holds known frames (pcap upper-PDU records) may hold raw reads too, as
+// `rtuscope export --raw` writes them. Raw reads are the fuller evidence (silences, line
+// errors), so when a file has any, they are re-framed and its frame records are left aside;
+// otherwise the frame records are decoded as they are: CRC-checked, classified and paired
+// again, each frame's end estimated as its start plus its length in character times. A frame
+// record longer than 256 bytes is split into frames and noise (see DecodePipeline::push_frame).
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "capture/capture_reader.hpp"
+#include "capture/capture_warnings.hpp"
 #include "framing/capture_info.hpp"
 #include "framing/record.hpp"
 #include "pipeline/decode_pipeline.hpp"
@@ -26,8 +36,14 @@ struct ReplayOptions {
   bool show_warnings = true;
 };
 
-// Decodes `path` into `sink` and returns what was learned about the capture.
+// Opens a fresh reader over the same capture for each pass, its passing warnings to `warnings`.
+using CaptureOpener = std::function<std::unique_ptr<CaptureReader>(WarningSink warnings)>;
+
+// Decodes the capture `open` reads into `sink` and returns what was learned about it.
 // Throws InputError for unusable input (after delivering every record before the damage).
+CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
+                           RecordSink& sink);
+// The same for the file `path`, read by the reader of its format (open_capture).
 CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options, RecordSink& sink);
 
 }  // namespace rtu

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/chunk_view.hpp"
 #include "capture/open_capture.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
@@ -56,11 +57,12 @@ TEST(CaptureReaderRobustness, DamagedFilesAreReadOrRefusedWithInputError) {
     const std::string& seed = seeds()[static_cast<std::size_t>(round) % seeds().size()];
     const auto path = dir.write(round % 2 == 0 ? "f.csv" : "f.hex", mutate(rng, seed));
     try {
-      auto source = open_capture(path, [](std::string_view) {});
+      auto reader = open_capture(path, [](std::string_view) {});
+      ChunkView source(*reader);
       Chunk chunk;
       Nanos last_time = kUnknownTime;
       std::uint64_t last_origin = 0;
-      while (source->next(chunk)) {
+      while (source.next(chunk)) {
         ASSERT_FALSE(chunk.bytes.empty()) << path;
         ASSERT_TRUE(chunk.errors.empty() || chunk.errors.size() == chunk.bytes.size());
         const Nanos t = chunk.t_first_start != kUnknownTime ? chunk.t_first_start : chunk.t_end;

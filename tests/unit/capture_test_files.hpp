@@ -21,6 +21,7 @@ extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(con
 #endif
 
 #include "capture/chunk_source.hpp"
+#include "capture/chunk_view.hpp"
 
 namespace rtu::testing {
 
@@ -65,8 +66,9 @@ struct CopiedChunk {
   std::uint64_t origin = 0;
 };
 
-inline std::vector<CopiedChunk> read_all(ChunkSource& source) {
+inline std::vector<CopiedChunk> read_all(CaptureReader& reader) {
   std::vector<CopiedChunk> out;
+  ChunkView source(reader);
   Chunk chunk;
   while (source.next(chunk)) {
     out.push_back({chunk.t_end, chunk.t_first_start,

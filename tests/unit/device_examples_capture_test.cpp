@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "capture/chunk_view.hpp"
 #include "capture/open_capture.hpp"
 #include "capture/text_hex_reader.hpp"
 #include "core/crc16.hpp"
@@ -23,9 +24,10 @@ TEST(DeviceExamplesCapture, HoldsEveryExampleFrameWithOneDeliberateBadCrc) {
 
   // Split on silences: bytes of a frame are one character time apart, frames ≥ 5 ms apart.
   std::vector<std::vector<std::uint8_t>> frames;
+  ChunkView chunks(*source);
   Chunk chunk;
   Nanos last = kUnknownTime;
-  while (source->next(chunk)) {
+  while (chunks.next(chunk)) {
     ASSERT_EQ(chunk.bytes.size(), 1U) << "one byte per line, line " << chunk.origin;
     if (last == kUnknownTime || chunk.t_end - last > settings->t3_5()) frames.emplace_back();
     if (last != kUnknownTime) {
@@ -62,8 +64,9 @@ struct TimedByte {
 std::vector<TimedByte> bytes_of(const std::string& file) {
   auto source = open_capture(std::string(RTUSCOPE_SOURCE_DIR) + "/captures/" + file);
   std::vector<TimedByte> out;
+  ChunkView chunks(*source);
   Chunk chunk;
-  while (source->next(chunk)) {
+  while (chunks.next(chunk)) {
     EXPECT_EQ(chunk.bytes.size(), 1U);
     out.push_back({chunk.t_first_start, chunk.t_end, chunk.bytes[0]});
   }

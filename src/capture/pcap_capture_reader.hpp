@@ -1,0 +1,42 @@
+#pragma once
+// The CaptureReader of pcap/pcapng files: PcapImporter's items (see capture/pcap_import.hpp)
+// delivered as chunks, frames, noise and the capture's end, with what the file declares.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "capture/capture_reader.hpp"
+#include "capture/pcap_import.hpp"
+
+namespace rtu {
+
+class PcapCaptureReader final : public CaptureReader {
+ public:
+  // Throws InputError when the file cannot be opened or its header is unusable.
+  explicit PcapCaptureReader(const std::string& path);
+
+  bool read(CaptureConsumer& to) override;
+  [[nodiscard]] std::string name() const override { return importer_.name(); }
+  [[nodiscard]] std::optional<LineSettings> declared_settings() const override {
+    return importer_.declared_settings();
+  }
+  // The finest timestamp step of the interfaces of the records read so far.
+  [[nodiscard]] Nanos timestamp_precision() const override { return precision_; }
+  [[nodiscard]] std::optional<Nanos> declared_resolution() const override {
+    return importer_.declared_resolution();
+  }
+  [[nodiscard]] std::optional<Nanos> declared_timeout() const override {
+    return importer_.declared_timeout();
+  }
+  [[nodiscard]] bool holds_frames() const override { return true; }
+  // Records cut short by the capturing tool: the bytes they lack show as damaged frames,
+  // and the user must know why.
+  [[nodiscard]] std::vector<std::string> capture_warnings() const override;
+
+ private:
+  PcapImporter importer_;
+  PcapItem item_;
+  Nanos precision_ = 0;
+};
+
+}  // namespace rtu

@@ -1,0 +1,19 @@
+#pragma once
+// The registry of record output formats: how `decode`, `live` and `demo` print each record
+// (--format), and the writer of each.
+#include <memory>
+
+#include "core/format_registry.hpp"
+#include "core/output_stream.hpp"
+#include "framing/record.hpp"
+
+namespace rtu {
+
+// Device registers are shown where a device stage before the writer named them;
+// `flush_each`: every record reaches `out` at once (live output), else buffered.
+using RecordWriterFactory = std::unique_ptr<RecordSink> (*)(OutputStream& out, bool flush_each);
+
+// "text" (the default, first) and "jsonl".
+const FormatTable<RecordWriterFactory>& record_formats();
+
+}  // namespace rtu

@@ -1,0 +1,231 @@
+// The one two-pass replay driver (pipeline/replay.hpp): what it takes from any CaptureReader
+// (chunks, frame and noise records, the capture's end, what the capture declares), checked
+// with a scripted reader, and that real formats holding the same traffic decode alike.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bus_builder.hpp"
+#include "capture/byte_output.hpp"
+#include "capture/capture_reader.hpp"
+#include "capture_test_files.hpp"
+#include "core/crc16.hpp"
+#include "core/input_error.hpp"
+#include "core/issue.hpp"
+#include "pipeline/replay.hpp"
+#include "report/pcap_export.hpp"
+
+namespace rtu {
+namespace {
+
+using test::CollectingSink;
+using Bytes = std::vector<std::uint8_t>;
+
+constexpr Nanos kMs = kNanosPerMilli;
+
+Bytes with_crc(Bytes adu) {
+  const std::uint16_t crc = crc16(adu);
+  adu.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  adu.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  return adu;
+}
+
+const Bytes kRequest = with_crc({0x01, 0x03, 0x00, 0x00, 0x00, 0x01});
+const Bytes kResponse = with_crc({0x01, 0x03, 0x02, 0x12, 0x34});
+
+struct Item {
+  enum class Kind : std::uint8_t { kChunk, kFrame, kNoise, kEnd, kDamage };
+  Kind kind;
+  Nanos t;
+  Bytes bytes;
+};
+
+// What a test scripts the capture to hold and declare.
+struct Script {
+  std::vector<Item> items;
+  bool holds_frames = true;
+  Nanos precision = 1000;
+  std::optional<Nanos> declared_resolution;
+  std::optional<Nanos> declared_timeout;
+  std::vector<std::string> warnings;
+};
+
+class ScriptedReader final : public CaptureReader {
+ public:
+  explicit ScriptedReader(const Script& script) : script_(script) {}
+  bool read(CaptureConsumer& to) override {
+    if (next_ == script_.items.size()) return false;
+    const Item& item = script_.items[next_++];
+    const auto origin = static_cast<std::uint64_t>(next_);
+    switch (item.kind) {
+      case Item::Kind::kChunk: {
+        Chunk chunk;
+        chunk.t_end = item.t;
+        chunk.bytes = item.bytes;
+        chunk.origin = origin;
+        to.on_chunk(chunk);
+        break;
+      }
+      case Item::Kind::kFrame: to.on_frame(item.bytes, item.t, origin); break;
+      case Item::Kind::kNoise: to.on_noise(item.bytes, item.t, origin); break;
+      case Item::Kind::kEnd: to.on_end(item.t); break;
+      case Item::Kind::kDamage: throw InputError("scripted: offset 7: damaged");
+    }
+    return true;
+  }
+  [[nodiscard]] std::string name() const override { return "scripted"; }
+  [[nodiscard]] Nanos timestamp_precision() const override { return script_.precision; }
+  [[nodiscard]] std::optional<Nanos> declared_resolution() const override {
+    return script_.declared_resolution;
+  }
+  [[nodiscard]] std::optional<Nanos> declared_timeout() const override {
+    return script_.declared_timeout;
+  }
+  [[nodiscard]] bool holds_frames() const override { return script_.holds_frames; }
+  [[nodiscard]] std::vector<std::string> capture_warnings() const override {
+    return script_.warnings;
+  }
+
+ private:
+  const Script& script_;
+  std::size_t next_ = 0;
+};
+
+struct Replayed {
+  CaptureInfo info;
+  CollectingSink sink;
+  int opened = 0;
+};
+
+void replay(const Script& script, Replayed& out, ReplayOptions options = {}) {
+  options.show_warnings = false;
+  out.info = replay_capture(
+      [&](WarningSink) {
+        ++out.opened;
+        return std::make_unique<ScriptedReader>(script);
+      },
+      options, out.sink);
+}
+
+std::vector<Bytes> bytes_of(const CollectingSink& sink) {
+  std::vector<Bytes> out;
+  for (const auto& record : sink.records) {
+    out.emplace_back(record.bytes().begin(), record.bytes().end());
+  }
+  return out;
+}
+
+TEST(ReplayDriver, FrameRecordsAreDecodedAsTheyAreWhenThereAreNoRawReads) {
+  Script script;
+  script.items = {{Item::Kind::kFrame, 10 * kMs, kRequest},
+                  {Item::Kind::kNoise, 30 * kMs, {0xFF}},
+                  {Item::Kind::kFrame, 60 * kMs, kResponse}};
+  Replayed r;
+  replay(script, r);
+  EXPECT_EQ(r.opened, 2);  // one reader per pass
+  EXPECT_EQ(r.info.source, "scripted");
+  EXPECT_FALSE(r.info.per_byte_timing);
+  EXPECT_EQ(r.info.timing_resolution, script.precision);  // the records' own precision
+  EXPECT_EQ(bytes_of(r.sink), (std::vector<Bytes>{kRequest, {0xFF}, kResponse}));
+  ASSERT_EQ(r.sink.records.size(), 3U);
+  EXPECT_EQ(r.sink.records[1].kind, RecordKind::kNoise);
+  EXPECT_EQ(r.sink.requests_of_responses.size(), 1U);  // paired again
+  EXPECT_TRUE(r.sink.finished);
+}
+
+TEST(ReplayDriver, RawReadsWinOverFrameRecords) {
+  Script script;
+  script.items = {{Item::Kind::kChunk, 10 * kMs, kRequest},
+                  {Item::Kind::kFrame, 10 * kMs, with_crc({0x02, 0x01, 0x00, 0x00, 0x00, 0x08})},
+                  {Item::Kind::kChunk, 60 * kMs, kResponse}};
+  std::vector<std::size_t> seen_chunks;
+  ReplayOptions options;
+  options.on_chunk = [&](const Chunk& chunk) { seen_chunks.push_back(chunk.bytes.size()); };
+  Replayed r;
+  replay(script, r, options);
+  EXPECT_EQ(bytes_of(r.sink), (std::vector<Bytes>{kRequest, kResponse}));
+  EXPECT_EQ(seen_chunks, (std::vector<std::size_t>{kRequest.size(), kResponse.size()}));
+}
+
+TEST(ReplayDriver, DeclarationsOfTheCaptureAreUsedUnlessTheUserChose) {
+  Script script;
+  script.items = {{Item::Kind::kFrame, 10 * kMs, kRequest}};
+  script.declared_resolution = 16 * kMs;
+  script.declared_timeout = 300 * kMs;
+  script.warnings = {"scripted: offset 9: record cut"};
+  Replayed declared;
+  replay(script, declared);
+  EXPECT_EQ(declared.info.timing_resolution, 16 * kMs);
+  EXPECT_EQ(declared.info.response_timeout, 300 * kMs);
+  ASSERT_FALSE(declared.info.warnings.empty());
+  EXPECT_EQ(declared.info.warnings.front(), "scripted: offset 9: record cut");
+
+  ReplayOptions options;
+  options.resolution = 2 * kMs;
+  options.response_timeout = 500 * kMs;
+  options.response_timeout_set = true;
+  Replayed chosen;
+  replay(script, chosen, options);
+  EXPECT_EQ(chosen.info.timing_resolution, 2 * kMs);
+  EXPECT_EQ(chosen.info.response_timeout, 500 * kMs);
+}
+
+TEST(ReplayDriver, TheCapturesEndDecidesAPendingRequest) {
+  Script script;
+  script.items = {{Item::Kind::kFrame, 10 * kMs, kRequest}};
+  script.declared_timeout = 300 * kMs;
+  Replayed without_end;
+  replay(script, without_end);
+  ASSERT_EQ(without_end.sink.records.size(), 1U);
+  // The capture stops before the timeout ran out: no verdict.
+  EXPECT_FALSE(without_end.sink.records[0].issues.has(IssueId::kTimeout));
+
+  script.items.push_back({Item::Kind::kEnd, 5000 * kMs, {}});
+  Replayed with_end;
+  replay(script, with_end);
+  ASSERT_EQ(with_end.sink.records.size(), 1U);
+  EXPECT_TRUE(with_end.sink.records[0].issues.has(IssueId::kTimeout));
+}
+
+TEST(ReplayDriver, DamageIsReportedAfterEverythingBeforeIt) {
+  Script script;
+  script.items = {{Item::Kind::kFrame, 10 * kMs, kRequest},
+                  {Item::Kind::kDamage, 0, {}},
+                  {Item::Kind::kFrame, 60 * kMs, kResponse}};
+  Replayed r;
+  EXPECT_THROW(replay(script, r), InputError);
+  EXPECT_EQ(bytes_of(r.sink), (std::vector<Bytes>{kRequest}));
+  EXPECT_TRUE(r.sink.finished);
+}
+
+std::vector<Bytes> decode_file(const std::string& path) {
+  CollectingSink sink;
+  ReplayOptions options;
+  options.show_warnings = false;
+  replay_capture(path, options, sink);
+  return bytes_of(sink);
+}
+
+TEST(ReplayDriver, TextHexSaleaeAndPcapngOfTheSameTrafficDecodeAlike) {
+  const std::string dir = std::string(RTUSCOPE_SOURCE_DIR) + "/captures/";
+  const auto from_hex = decode_file(dir + "device_examples.hex");
+  ASSERT_GT(from_hex.size(), 50U);
+  EXPECT_EQ(decode_file(dir + "device_examples_saleae_legacy.csv"), from_hex);
+
+  // Its export (frame records only) goes through the same driver.
+  testing::TempDir temp;
+  const std::string pcapng = (temp.path() / "examples.pcapng").string();
+  {
+    PcapExportSink exporter(std::make_unique<FileOutput>(pcapng), PcapExportOptions{});
+    ReplayOptions options;
+    options.show_warnings = false;
+    replay_capture(dir + "device_examples.hex", options, exporter);
+  }
+  EXPECT_EQ(decode_file(pcapng), from_hex);
+}
+
+}  // namespace
+}  // namespace rtu

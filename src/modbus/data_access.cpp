@@ -43,6 +43,16 @@ DataBlock block(std::uint8_t function, std::uint16_t addr, std::uint16_t qty, bo
   return b;
 }
 
+// The registers a write request (FC16, FC23's write part) puts on the device.
+DataBlock registers_written(const PduHeader& r, std::uint16_t addr, std::uint16_t qty,
+                            std::uint8_t byte_count, WordView values) {
+  DataBlock b = block(r.function, addr, qty, true);
+  b.has_values = true;
+  b.count_fits = fits(r, byte_count, 2U * std::size_t{qty});
+  b.words = words_for(values.bytes(), qty);
+  return b;
+}
+
 class Builder {
  public:
   explicit Builder(DataAccess& out) : out_(out) {}
@@ -75,11 +85,7 @@ class Builder {
   }
 
   void operator()(const WriteMultipleRegistersRequest& r) {
-    DataBlock b = block(r.function, r.addr, r.qty, true);
-    b.has_values = true;
-    b.count_fits = fits(r, r.byte_count, 2U * std::size_t{r.qty});
-    b.words = words_for(r.values.bytes(), r.qty);
-    add(b);
+    add(registers_written(r, r.addr, r.qty, r.byte_count, r.values));
   }
 
   void operator()(const MaskWrite& r) {
@@ -90,11 +96,7 @@ class Builder {
 
   void operator()(const ReadWriteMultipleRequest& r) {
     // The device writes first, then reads (V1.1b3 §6.17): blocks in that order.
-    DataBlock w = block(r.function, r.write_addr, r.write_qty, true);
-    w.has_values = true;
-    w.count_fits = fits(r, r.byte_count, 2U * std::size_t{r.write_qty});
-    w.words = words_for(r.values.bytes(), r.write_qty);
-    add(w);
+    add(registers_written(r, r.write_addr, r.write_qty, r.byte_count, r.values));
     add(block(r.function, r.read_addr, r.read_qty, false));
   }
 

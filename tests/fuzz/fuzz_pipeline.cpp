@@ -1,14 +1,18 @@
-// Fuzz target for the whole decode path: chunks → framer(s) → tracker → JSONL and text.
+// Fuzz target for the whole decode path: chunks → framer(s) → tracker → device stage (slaves
+// 1-4 named by the bundled maps, values collected) → JSONL and text.
 // The input is split into chunks with fuzzer-chosen sizes and time steps, so the framer
 // sees every mix of batched and per-byte timing, and optionally two receiving ports.
 // Oracles: every input byte leaves in exactly one record, no record exceeds 256 bytes,
 // records of one port leave in time order, and a run with a live capture's idle calls
-// between the reads gives exactly the records of the replay without them (live ≡ replay).
+// between the reads gives exactly the records of the replay without them (live ≡ replay),
+// device issues included; every value the device stage collects has a name.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
 
+#include "dissect/device_stage.hpp"
+#include "dissect/map_library.hpp"
 #include "pipeline/decode_pipeline.hpp"
 #include "report/jsonl_writer.hpp"
 #include "report/text_writer.hpp"
@@ -39,6 +43,11 @@ class CheckingSink : public rtu::RecordSink {
       std::abort();
     }
     last_start_ = record.t_start;
+    if (record.device != nullptr) {
+      for (const auto& v : record.device->values) {
+        if (v.point.empty() || v.slave != record.slave()) std::abort();
+      }
+    }
     bytes += record.size;
     seen.push_back(Seen{record.kind,
                         {record.bytes().begin(), record.bytes().end()},
@@ -75,7 +84,18 @@ std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOpti
   rtu::JsonlWriter json(devnull);
   rtu::TextWriter text(devnull);
   CheckingSink sink(json, text, one_port);
-  rtu::DecodePipeline pipeline(options, sink);
+  static const rtu::dissect::MapLibrary maps = [] {
+    rtu::dissect::MapLibrary library;
+    if (!library.load_dir(RTUSCOPE_DISSECTORS_DIR).empty()) std::abort();
+    return library;
+  }();
+  // What is learned (PT, CT) starts afresh with each run, as in a new process.
+  rtu::dissect::DeviceTable devices;
+  for (std::uint8_t slave = 1; slave <= maps.maps().size() && slave <= 4; ++slave) {
+    devices.assign(slave, *maps.maps()[slave - 1], rtu::dissect::ModelOrigin::kConfigured);
+  }
+  rtu::dissect::DeviceStage stage(devices, sink, true);
+  rtu::DecodePipeline pipeline(options, stage);
   rtu::Nanos now = 0;
   for (const auto& read : reads) {
     for (; idle_step > 0 && now + idle_step < read.t_end; now += idle_step) pipeline.idle(now);

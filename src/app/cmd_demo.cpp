@@ -3,13 +3,8 @@
 // requests from one, the slaves' answers from another, at their recorded pace), and sniffs
 // a third endpoint live through the same serial path as `rtuscope live`; then prints a
 // summary.
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <termios.h>
-#include <unistd.h>
 
-#include <algorithm>
-#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
@@ -20,8 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
-#include <vector>
+#include <utility>
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
@@ -30,9 +24,11 @@
 #include "core/input_error.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
+#include "pipeline/burst_collector.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 #include "pipeline/replay.hpp"
+#include "pipeline/traffic_player.hpp"
 #include "serial/virtual_bus.hpp"
 
 namespace rtu::app {
@@ -47,72 +43,12 @@ struct DemoArgs {
   unsigned repeat = 1;
 };
 
-// One burst to put on the bus: who sends it and when (relative to the first).
-struct Burst {
-  Nanos at = 0;
-  bool from_slave = false;
-  std::vector<std::uint8_t> bytes;
-};
-
-class BurstCollector final : public RecordSink {
- public:
-  void on_record(Record& record) override {
-    if (first_ == kUnknownTime) first_ = record.t_start;
-    bursts.push_back(Burst{record.t_start - first_,
-                           record.role == Role::kResponse,
-                           {record.bytes().begin(), record.bytes().end()}});
-  }
-  std::vector<Burst> bursts;
-
- private:
-  Nanos first_ = kUnknownTime;
-};
-
 // The bundled traffic: the simulator's master polling the four documented devices
 // (slaves 1-4), with a few faults, and the bus file that says which slave is which.
 std::filesystem::path default_traffic() {
   const std::filesystem::path sources =
       std::filesystem::path(RTUSCOPE_DISSECTORS_DIR).parent_path();
   return sources / "captures" / "demo_four_devices.hex";
-}
-
-int open_endpoint(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) throw InputError(fmt::format("{}: cannot open the virtual bus endpoint", path));
-  termios tio{};
-  ::tcgetattr(fd, &tio);
-  ::cfmakeraw(&tio);
-  ::cfsetspeed(&tio, B9600);
-  ::tcsetattr(fd, TCSANOW, &tio);
-  return fd;
-}
-
-// Plays the bursts at their pace (long silences shortened to 200 ms) until done or stop.
-// A burst is never written before the previous one has left the wire: when this thread
-// runs late (a loaded machine), bursts from the master's and the slaves' endpoints would
-// otherwise wait side by side and the bus could take them in the wrong order.
-void play(const std::vector<Burst>& bursts, unsigned repeat, int master_fd, int slave_fd,
-          Nanos char_time, const std::atomic<bool>& stop) {
-  constexpr Nanos kMaxSilence = 200 * kNanosPerMilli;
-  auto next = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
-  auto wire_free = next;
-  for (unsigned round = 0; round < repeat && !stop; ++round) {
-    Nanos previous = 0;
-    for (const auto& burst : bursts) {
-      if (stop) return;
-      next += std::chrono::nanoseconds(std::min(burst.at - previous, kMaxSilence));
-      previous = burst.at;
-      next = std::max(next, wire_free);
-      std::this_thread::sleep_until(next);
-      const int fd = burst.from_slave ? slave_fd : master_fd;
-      [[maybe_unused]] const auto n = ::write(fd, burst.bytes.data(), burst.bytes.size());
-      // On the wire until then, plus a character of margin for the bus to pick it up.
-      wire_free = std::chrono::steady_clock::now() +
-                  std::chrono::nanoseconds(char_time * static_cast<Nanos>(burst.bytes.size() + 1));
-    }
-    next += std::chrono::milliseconds(100);
-  }
-  std::this_thread::sleep_until(next + std::chrono::milliseconds(300));
 }
 
 void run_demo(DemoArgs& args, int& exit_code) {
@@ -162,25 +98,18 @@ void run_demo(DemoArgs& args, int& exit_code) {
                       [](const std::string& m) { fmt::print(stderr, "rtuscope demo: {}\n", m); });
   capture.start();
 
-  const int master_fd = open_endpoint(bus.paths()[0]);
-  const int slave_fd = open_endpoint(bus.paths()[1]);
-  std::atomic<bool> stop_playing{false};
-  std::atomic<bool> played{false};
-  std::thread player([&] {
-    play(collector.bursts, args.repeat, master_fd, slave_fd, traffic_info.line.char_time(),
-         stop_playing);
-    played = true;
-  });
+  TrafficPlayer player(std::move(collector.bursts), args.repeat, bus.paths()[0], bus.paths()[1],
+                       traffic_info.line.char_time());
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int) {
-    if (!ec) stop_playing = true;
+    if (!ec) player.stop();
   });
   boost::asio::steady_timer poll(io);
   std::function<void()> watch = [&] {
     poll.expires_after(std::chrono::milliseconds(20));
     poll.async_wait([&](const boost::system::error_code& ec) {
       if (ec) return;
-      if (played) {
+      if (player.done()) {
         capture.stop();
       } else {
         watch();
@@ -191,10 +120,7 @@ void run_demo(DemoArgs& args, int& exit_code) {
   while (!capture.stopped()) io.run_one();
   signals.cancel();
   poll.cancel();
-  stop_playing = true;
-  player.join();
-  ::close(master_fd);
-  ::close(slave_fd);
+  player.stop();
   bus.stop();
   out.flush();
 

@@ -5,13 +5,7 @@
 // summary.
 #include <fmt/format.h>
 
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/signal_set.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <chrono>
-#include <csignal>
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,14 +13,9 @@
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
-#include "app/record_writer.hpp"
-#include "app/run_report.hpp"
+#include "app/live_session.hpp"
 #include "core/input_error.hpp"
-#include "core/output_stream.hpp"
-#include "dissect/device_stage.hpp"
 #include "pipeline/burst_collector.hpp"
-#include "pipeline/live_capture.hpp"
-#include "pipeline/pcapng_recorder.hpp"
 #include "pipeline/replay.hpp"
 #include "pipeline/traffic_player.hpp"
 #include "serial/virtual_bus.hpp"
@@ -49,6 +38,17 @@ std::filesystem::path default_traffic() {
   const std::filesystem::path sources =
       std::filesystem::path(RTUSCOPE_DISSECTORS_DIR).parent_path();
   return sources / "captures" / "demo_four_devices.hex";
+}
+
+void print_summary(const LiveSummary& s, const VirtualBus& bus) {
+  std::size_t written = 0;
+  for (const auto& b : bus.log()) written += b.bytes.size();
+  fmt::print(stderr,
+             "rtuscope demo: {:.1f} s; the bus carried {} bytes, rtuscope read {} of them in {} "
+             "reads: {} frames ({} with issues), {} transactions, {} timeouts, {} noise "
+             "records\n",
+             to_seconds(s.duration), written, s.bytes, s.chunks, s.frames, s.frames_with_issues,
+             s.transactions, s.timeouts, s.noise_records);
 }
 
 void run_demo(DemoArgs& args, int& exit_code) {
@@ -75,72 +75,35 @@ void run_demo(DemoArgs& args, int& exit_code) {
              traffic_info.line.describe(), bus.paths()[0], bus.paths()[1], bus.paths()[2]);
   bus.start();
 
-  OutputStream out("-");
-  const auto writer = make_record_writer(args.format, out, true);
-  std::unique_ptr<PcapngRecorder> recorder;
-  if (!args.write_path.empty()) recorder = std::make_unique<PcapngRecorder>(args.write_path);
-  std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
-  if (!args.report.empty()) report_out.emplace(args.report);
-  RunReport report(*devices);
-  RecordFanout sinks;
-  sinks.add(*writer);
-  sinks.add(report.sink());
-  // One decode per frame: the screen and the report read the same device stage.
-  dissect::DeviceStage stage(devices->table, sinks, true);
+  LiveSessionSetup session;
+  session.capture.ports = {bus.paths()[2]};
+  session.capture.line = traffic_info.line;
+  session.capture.response_timeout = replay.response_timeout;
+  session.format = args.format;
+  session.record_path = args.write_path;
+  session.report_path = args.report;
+  session.always_report = true;  // the demo shows its findings even without --report
+  session.prefix = "rtuscope demo";
 
-  LiveOptions options;
-  options.ports = {bus.paths()[2]};
-  options.line = traffic_info.line;
-  options.response_timeout = replay.response_timeout;
-  boost::asio::io_context io;
-  SystemClock clock;
-  LiveCapture capture(io, clock, options, stage, recorder.get(),
-                      [](const std::string& m) { fmt::print(stderr, "rtuscope demo: {}\n", m); });
-  capture.start();
-
-  TrafficPlayer player(std::move(collector.bursts), args.repeat, bus.paths()[0], bus.paths()[1],
-                       traffic_info.line.char_time());
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code& ec, int) {
-    if (!ec) player.stop();
-  });
-  boost::asio::steady_timer poll(io);
-  std::function<void()> watch = [&] {
-    poll.expires_after(std::chrono::milliseconds(20));
-    poll.async_wait([&](const boost::system::error_code& ec) {
-      if (ec) return;
-      if (player.done()) {
-        capture.stop();
-      } else {
-        watch();
-      }
-    });
+  // The traffic starts once rtuscope listens, and the run ends once it is over; a Ctrl-C
+  // stops the traffic, and the run then ends the same way.
+  std::optional<TrafficPlayer> player;
+  LiveSessionHooks hooks;
+  hooks.on_listening = [&](const LiveCapture&) {
+    player.emplace(std::move(collector.bursts), args.repeat, bus.paths()[0], bus.paths()[1],
+                   traffic_info.line.char_time());
   };
-  watch();
-  while (!capture.stopped()) io.run_one();
-  signals.cancel();
-  poll.cancel();
-  player.stop();
-  bus.stop();
-  out.flush();
-
-  const LiveSummary& s = capture.summary();
-  std::size_t written = 0;
-  for (const auto& b : bus.log()) written += b.bytes.size();
-  fmt::print(stderr,
-             "rtuscope demo: {:.1f} s; the bus carried {} bytes, rtuscope read {} of them in {} "
-             "reads: {} frames ({} with issues), {} transactions, {} timeouts, {} noise "
-             "records\n",
-             to_seconds(s.duration), written, s.bytes, s.chunks, s.frames, s.frames_with_issues,
-             s.transactions, s.timeouts, s.noise_records);
-  report.finish();
-  report.print_findings(stderr, 3);
-  if (report_out) {
-    report.write(*report_out, report_format_for(args.report));
-    report_out->flush();
-    fmt::print(stderr, "rtuscope demo: report written to {}\n", args.report);
-  }
-  if (recorder) {
+  hooks.finished = [&player] { return player && player->done(); };
+  hooks.on_signal = [&player] {
+    if (player) player->stop();
+  };
+  hooks.on_stopped = [&](const LiveSummary& summary, const PcapngRecorder*) {
+    player.reset();
+    bus.stop();  // every byte played is in its log now
+    print_summary(summary, bus);
+  };
+  run_live_session(session, *devices, hooks);
+  if (!args.write_path.empty()) {
     fmt::print(stderr, "rtuscope demo: recorded to {} (replay: rtuscope decode {})\n",
                args.write_path, args.write_path);
   }

@@ -3,36 +3,21 @@
 // requests from one, the slaves' answers from another, at their recorded pace), and sniffs
 // a third endpoint live through the same serial path as `rtuscope live`; then prints a
 // summary.
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <termios.h>
-#include <unistd.h>
 
-#include <algorithm>
-#include <atomic>
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/signal_set.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <chrono>
-#include <csignal>
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
-#include <vector>
+#include <utility>
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
-#include "app/record_writer.hpp"
-#include "app/run_report.hpp"
+#include "app/live_session.hpp"
 #include "core/input_error.hpp"
-#include "core/output_stream.hpp"
-#include "dissect/device_stage.hpp"
-#include "pipeline/live_capture.hpp"
-#include "pipeline/pcapng_recorder.hpp"
+#include "pipeline/burst_collector.hpp"
 #include "pipeline/replay.hpp"
+#include "pipeline/traffic_player.hpp"
 #include "report/record_formats.hpp"
 #include "serial/virtual_bus.hpp"
 
@@ -48,27 +33,6 @@ struct DemoArgs {
   unsigned repeat = 1;
 };
 
-// One burst to put on the bus: who sends it and when (relative to the first).
-struct Burst {
-  Nanos at = 0;
-  bool from_slave = false;
-  std::vector<std::uint8_t> bytes;
-};
-
-class BurstCollector final : public RecordSink {
- public:
-  void on_record(Record& record) override {
-    if (first_ == kUnknownTime) first_ = record.t_start;
-    bursts.push_back(Burst{record.t_start - first_,
-                           record.role == Role::kResponse,
-                           {record.bytes().begin(), record.bytes().end()}});
-  }
-  std::vector<Burst> bursts;
-
- private:
-  Nanos first_ = kUnknownTime;
-};
-
 // The bundled traffic: the simulator's master polling the four documented devices
 // (slaves 1-4), with a few faults, and the bus file that says which slave is which.
 std::filesystem::path default_traffic() {
@@ -77,43 +41,15 @@ std::filesystem::path default_traffic() {
   return sources / "captures" / "demo_four_devices.hex";
 }
 
-int open_endpoint(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) throw InputError(fmt::format("{}: cannot open the virtual bus endpoint", path));
-  termios tio{};
-  ::tcgetattr(fd, &tio);
-  ::cfmakeraw(&tio);
-  ::cfsetspeed(&tio, B9600);
-  ::tcsetattr(fd, TCSANOW, &tio);
-  return fd;
-}
-
-// Plays the bursts at their pace (long silences shortened to 200 ms) until done or stop.
-// A burst is never written before the previous one has left the wire: when this thread
-// runs late (a loaded machine), bursts from the master's and the slaves' endpoints would
-// otherwise wait side by side and the bus could take them in the wrong order.
-void play(const std::vector<Burst>& bursts, unsigned repeat, int master_fd, int slave_fd,
-          Nanos char_time, const std::atomic<bool>& stop) {
-  constexpr Nanos kMaxSilence = 200 * kNanosPerMilli;
-  auto next = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
-  auto wire_free = next;
-  for (unsigned round = 0; round < repeat && !stop; ++round) {
-    Nanos previous = 0;
-    for (const auto& burst : bursts) {
-      if (stop) return;
-      next += std::chrono::nanoseconds(std::min(burst.at - previous, kMaxSilence));
-      previous = burst.at;
-      next = std::max(next, wire_free);
-      std::this_thread::sleep_until(next);
-      const int fd = burst.from_slave ? slave_fd : master_fd;
-      [[maybe_unused]] const auto n = ::write(fd, burst.bytes.data(), burst.bytes.size());
-      // On the wire until then, plus a character of margin for the bus to pick it up.
-      wire_free = std::chrono::steady_clock::now() +
-                  std::chrono::nanoseconds(char_time * static_cast<Nanos>(burst.bytes.size() + 1));
-    }
-    next += std::chrono::milliseconds(100);
-  }
-  std::this_thread::sleep_until(next + std::chrono::milliseconds(300));
+void print_summary(const LiveSummary& s, const VirtualBus& bus) {
+  std::size_t written = 0;
+  for (const auto& b : bus.log()) written += b.bytes.size();
+  fmt::print(stderr,
+             "rtuscope demo: {:.1f} s; the bus carried {} bytes, rtuscope read {} of them in {} "
+             "reads: {} frames ({} with issues), {} transactions, {} timeouts, {} noise "
+             "records\n",
+             to_seconds(s.duration), written, s.bytes, s.chunks, s.frames, s.frames_with_issues,
+             s.transactions, s.timeouts, s.noise_records);
 }
 
 void run_demo(DemoArgs& args, int& exit_code) {
@@ -140,82 +76,35 @@ void run_demo(DemoArgs& args, int& exit_code) {
              traffic_info.line.describe(), bus.paths()[0], bus.paths()[1], bus.paths()[2]);
   bus.start();
 
-  OutputStream out("-");
-  const auto writer = make_record_writer(args.format, out, true);
-  std::unique_ptr<PcapngRecorder> recorder;
-  if (!args.write_path.empty()) recorder = std::make_unique<PcapngRecorder>(args.write_path);
-  std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
-  if (!args.report.empty()) report_out.emplace(args.report);
-  RunReport report(*devices);
-  RecordFanout sinks;
-  sinks.add(*writer);
-  sinks.add(report.sink());
-  // One decode per frame: the screen and the report read the same device stage.
-  dissect::DeviceStage stage(devices->table, sinks, true);
+  LiveSessionSetup session;
+  session.capture.ports = {bus.paths()[2]};
+  session.capture.line = traffic_info.line;
+  session.capture.response_timeout = replay.response_timeout;
+  session.format = args.format;
+  session.record_path = args.write_path;
+  session.report_path = args.report;
+  session.always_report = true;  // the demo shows its findings even without --report
+  session.prefix = "rtuscope demo";
 
-  LiveOptions options;
-  options.ports = {bus.paths()[2]};
-  options.line = traffic_info.line;
-  options.response_timeout = replay.response_timeout;
-  boost::asio::io_context io;
-  SystemClock clock;
-  LiveCapture capture(io, clock, options, stage, recorder.get(),
-                      [](const std::string& m) { fmt::print(stderr, "rtuscope demo: {}\n", m); });
-  capture.start();
-
-  const int master_fd = open_endpoint(bus.paths()[0]);
-  const int slave_fd = open_endpoint(bus.paths()[1]);
-  std::atomic<bool> stop_playing{false};
-  std::atomic<bool> played{false};
-  std::thread player([&] {
-    play(collector.bursts, args.repeat, master_fd, slave_fd, traffic_info.line.char_time(),
-         stop_playing);
-    played = true;
-  });
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code& ec, int) {
-    if (!ec) stop_playing = true;
-  });
-  boost::asio::steady_timer poll(io);
-  std::function<void()> watch = [&] {
-    poll.expires_after(std::chrono::milliseconds(20));
-    poll.async_wait([&](const boost::system::error_code& ec) {
-      if (ec) return;
-      if (played) {
-        capture.stop();
-      } else {
-        watch();
-      }
-    });
+  // The traffic starts once rtuscope listens, and the run ends once it is over; a Ctrl-C
+  // stops the traffic, and the run then ends the same way.
+  std::optional<TrafficPlayer> player;
+  LiveSessionHooks hooks;
+  hooks.on_listening = [&](const LiveCapture&) {
+    player.emplace(std::move(collector.bursts), args.repeat, bus.paths()[0], bus.paths()[1],
+                   traffic_info.line.char_time());
   };
-  watch();
-  while (!capture.stopped()) io.run_one();
-  signals.cancel();
-  poll.cancel();
-  stop_playing = true;
-  player.join();
-  ::close(master_fd);
-  ::close(slave_fd);
-  bus.stop();
-  out.flush();
-
-  const LiveSummary& s = capture.summary();
-  std::size_t written = 0;
-  for (const auto& b : bus.log()) written += b.bytes.size();
-  fmt::print(stderr,
-             "rtuscope demo: {:.1f} s; the bus carried {} bytes, rtuscope read {} of them in {} "
-             "reads: {} frames ({} with issues), {} transactions, {} timeouts, {} noise "
-             "records\n",
-             to_seconds(s.duration), written, s.bytes, s.chunks, s.frames, s.frames_with_issues,
-             s.transactions, s.timeouts, s.noise_records);
-  report.finish();
-  report.print_findings(stderr, 3);
-  if (report_out) {
-    report.write(*report_out, report_format_for(args.report));
-    report_out->flush();
-    fmt::print(stderr, "rtuscope demo: report written to {}\n", args.report);
-  }
-  if (recorder) {
+  hooks.finished = [&player] { return player && player->done(); };
+  hooks.on_signal = [&player] {
+    if (player) player->stop();
+  };
+  hooks.on_stopped = [&](const LiveSummary& summary, const PcapngRecorder*) {
+    player.reset();
+    bus.stop();  // every byte played is in its log now
+    print_summary(summary, bus);
+  };
+  run_live_session(session, *devices, hooks);
+  if (!args.write_path.empty()) {
     fmt::print(stderr, "rtuscope demo: recorded to {} (replay: rtuscope decode {})\n",
                args.write_path, args.write_path);
   }

@@ -2,10 +2,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/signal_set.hpp>
-#include <csignal>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,11 +9,8 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
-#include "app/record_writer.hpp"
-#include "app/run_report.hpp"
+#include "app/live_session.hpp"
 #include "core/input_error.hpp"
-#include "core/output_stream.hpp"
-#include "dissect/device_stage.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -61,7 +54,8 @@ void run_live(const LiveArgs& args, int& exit_code) {
   // Line settings: the command line, else the --bus file, else Modbus's 9600 8E1.
   ReplayOptions line = args.line.to_replay_options();
   const auto devices = args.devices.build_with_maps(line);
-  LiveOptions options;
+  LiveSessionSetup session;
+  LiveOptions& options = session.capture;
   options.ports = args.ports;
   options.line.baud = line.overrides.baud.value_or(options.line.baud);
   options.line.parity = line.overrides.parity.value_or(options.line.parity);
@@ -78,59 +72,31 @@ void run_live(const LiveArgs& args, int& exit_code) {
     options.warnings.push_back(*warning);
   }
 
-  OutputStream out(args.output);
-  const auto writer = make_record_writer(args.format, out, true);
-
-  std::unique_ptr<PcapngRecorder> recorder;
   if (!args.write_path.empty()) {
-    RotationPolicy rotation;
-    if (!args.rotate.empty()) rotation = parse_rotation(args.rotate);
-    rotation.keep = args.keep;
-    recorder = std::make_unique<PcapngRecorder>(args.write_path, rotation);
+    session.record_path = args.write_path;
+    if (!args.rotate.empty()) session.rotation = parse_rotation(args.rotate);
+    session.rotation.keep = args.keep;
   } else if (!args.rotate.empty() || args.keep != 0) {
     throw InputError("--rotate and --keep need -w FILE.pcapng");
   }
+  session.format = args.format;
+  session.output = args.output;
+  session.report_path = args.report;
+  session.report_format = args.report_format;
 
-  // Frames go to the screen (or -o) and, with --report, to the report's statistics.
-  RecordFanout sinks;
-  sinks.add(*writer);
-  std::optional<RunReport> report;
-  std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
-  if (!args.report.empty()) {
-    report_out.emplace(args.report);
-    report.emplace(*devices);
-    sinks.add(report->sink());
-  }
-  // One decode per frame: the screen and the report read the same device stage.
-  dissect::DeviceStage stage(devices->table, sinks, report.has_value());
-
-  boost::asio::io_context io;
-  SystemClock clock;
-  LiveCapture capture(io, clock, options, stage, recorder.get(),
-                      [](const std::string& m) { fmt::print(stderr, "rtuscope: {}\n", m); });
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code& ec, int) {
-    if (!ec) capture.stop();
-  });
-  capture.start();
-  fmt::print(stderr, "rtuscope: listening on {} at {} (Ctrl-C to stop)\n", capture.info().source,
-             options.line.describe());
-  while (!capture.stopped()) io.run_one();
-  signals.cancel();
-  out.flush();
-  print_summary(capture.summary());
-  if (recorder) {
-    fmt::print(stderr, "rtuscope: {} records written to {}\n", recorder->records(),
-               fmt::join(recorder->files(), ", "));
-  }
-  if (report) {
-    report->finish();
-    report->print_findings(stderr, 3);
-    report->write(*report_out,
-                  args.report_format.empty() ? report_format_for(args.report) : args.report_format);
-    report_out->flush();
-    fmt::print(stderr, "rtuscope: report written to {}\n", args.report);
-  }
+  LiveSessionHooks hooks;
+  hooks.on_listening = [&options](const LiveCapture& capture) {
+    fmt::print(stderr, "rtuscope: listening on {} at {} (Ctrl-C to stop)\n", capture.info().source,
+               options.line.describe());
+  };
+  hooks.on_stopped = [](const LiveSummary& summary, const PcapngRecorder* recorder) {
+    print_summary(summary);
+    if (recorder) {
+      fmt::print(stderr, "rtuscope: {} records written to {}\n", recorder->records(),
+                 fmt::join(recorder->files(), ", "));
+    }
+  };
+  run_live_session(session, *devices, hooks);
   exit_code = 0;
 }
 

@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <system_error>
 
+#include "core/input_error.hpp"
+
 namespace rtu {
 namespace {
 
@@ -298,6 +300,17 @@ void VirtualBus::write_to(std::size_t index, const std::uint8_t* data, std::size
     data += w;
     n -= static_cast<std::size_t>(w);
   }
+}
+
+int open_bus_endpoint(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) throw InputError(fmt::format("{}: cannot open the virtual bus endpoint", path));
+  termios tio{};
+  ::tcgetattr(fd, &tio);
+  ::cfmakeraw(&tio);
+  ::cfsetspeed(&tio, B9600);  // a pty carries bytes at any speed; the bus does the pacing
+  ::tcsetattr(fd, TCSANOW, &tio);
+  return fd;
 }
 
 }  // namespace rtu

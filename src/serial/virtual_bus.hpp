@@ -111,4 +111,9 @@ class VirtualBus {
   std::thread thread_;
 };
 
+// Opens an endpoint as a peer on the bus does, raw (the bytes written are the bytes the bus
+// carries), and returns its file descriptor for the caller to close. Throws InputError when
+// the endpoint cannot be opened.
+[[nodiscard]] int open_bus_endpoint(const std::string& path);
+
 }  // namespace rtu

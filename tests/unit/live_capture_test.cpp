@@ -3,9 +3,7 @@
 // happen (with a generous deadline); nothing asserts on how long anything took.
 #include "pipeline/live_capture.hpp"
 
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,17 +24,6 @@ namespace {
 
 using test::CollectingSink;
 using test::with_crc;
-
-int open_raw(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY);
-  EXPECT_GE(fd, 0) << path;
-  termios tio{};
-  ::tcgetattr(fd, &tio);
-  ::cfmakeraw(&tio);
-  ::cfsetspeed(&tio, B19200);
-  ::tcsetattr(fd, TCSANOW, &tio);
-  return fd;
-}
 
 template <typename Done>
 bool run_until(boost::asio::io_context& io, Done done) {
@@ -90,7 +77,7 @@ TEST_F(LiveCaptureTest, FramesArePrintedWhenTheLineGoesQuietAndRecorded) {
                       [&](const std::string& m) { notes.push_back(m); });
   capture.start();
   EXPECT_TRUE(said(notes, "parity"));  // a pty has none: said, not fatal
-  const int master = open_raw(bus.paths()[0]);
+  const int master = open_bus_endpoint(bus.paths()[0]);
   ASSERT_EQ(::write(master, kFirst.data(), kFirst.size()), 8);
   // No more bytes come: only the idle timer can decide the frame.
   ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 1; }));
@@ -159,7 +146,7 @@ TEST_F(LiveCaptureTest, UnpluggedPortIsReopenedAndTheGapIsRecorded) {
   LiveCapture capture(io, clock, options, sink, &recorder,
                       [&](const std::string& m) { notes.push_back(m); });
   capture.start();
-  const int master = open_raw(bus.paths()[0]);
+  const int master = open_bus_endpoint(bus.paths()[0]);
   ASSERT_EQ(::write(master, kFirst.data(), kFirst.size()), 8);
   ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 1; }));
 
@@ -215,7 +202,7 @@ TEST_F(LiveCaptureTest, RequestTimedOutLiveTimesOutOnReplayToo) {
   SystemClock clock;
   LiveCapture capture(io, clock, options, sink, &recorder, [](const std::string&) {});
   capture.start();
-  const int master = open_raw(bus.paths()[0]);
+  const int master = open_bus_endpoint(bus.paths()[0]);
   const std::vector<std::uint8_t> request = with_crc({0x05, 0x03, 0x00, 0x00, 0x00, 0x02});
   ASSERT_EQ(::write(master, request.data(), request.size()), 8);
   ASSERT_TRUE(run_until(io, [&] { return sink.records.size() >= 1; }));

@@ -1,0 +1,112 @@
+#include "app/live_session.hpp"
+
+#include <fmt/format.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <csignal>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "app/record_writer.hpp"
+#include "app/run_report.hpp"
+#include "core/output_stream.hpp"
+#include "dissect/device_stage.hpp"
+#include "pipeline/record_fanout.hpp"
+
+namespace rtu::app {
+namespace {
+
+// Asks `finished` every 20 ms and stops the capture once it says so.
+class FinishWatch {
+ public:
+  FinishWatch(boost::asio::io_context& io, std::function<bool()> finished, LiveCapture& capture)
+      : timer_(io), finished_(std::move(finished)), capture_(capture) {
+    if (finished_) arm();
+  }
+
+ private:
+  void arm() {
+    timer_.expires_after(std::chrono::milliseconds(20));
+    timer_.async_wait([this](const boost::system::error_code& ec) {
+      if (ec) return;
+      if (finished_()) {
+        capture_.stop();
+      } else {
+        arm();
+      }
+    });
+  }
+
+  boost::asio::steady_timer timer_;
+  std::function<bool()> finished_;
+  LiveCapture& capture_;
+};
+
+}  // namespace
+
+void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
+                      const LiveSessionHooks& hooks) {
+  OutputStream out(setup.output);
+  const auto writer = make_record_writer(setup.format, out, true);
+  std::unique_ptr<PcapngRecorder> recorder;
+  if (!setup.record_path.empty()) {
+    recorder = std::make_unique<PcapngRecorder>(setup.record_path, setup.rotation);
+  }
+
+  // Frames go to the screen (or a file) and, when reported on, to the report's statistics.
+  RecordFanout sinks;
+  sinks.add(*writer);
+  std::optional<RunReport> report;
+  std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
+  if (!setup.report_path.empty()) report_out.emplace(setup.report_path);
+  if (report_out || setup.always_report) {
+    report.emplace(devices);
+    sinks.add(report->sink());
+  }
+  // One decode per frame: the screen and the report read the same device stage.
+  dissect::DeviceStage stage(devices.table, sinks, report.has_value());
+
+  boost::asio::io_context io;
+  SystemClock clock;
+  const std::string& prefix = setup.prefix;
+  LiveCapture capture(
+      io, clock, setup.capture, stage, recorder.get(),
+      [&prefix](const std::string& m) { fmt::print(stderr, "{}: {}\n", prefix, m); });
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& ec, int) {
+    if (ec) return;
+    if (hooks.on_signal) {
+      hooks.on_signal();
+    } else {
+      capture.stop();
+    }
+  });
+  capture.start();
+  if (hooks.on_listening) hooks.on_listening(capture);
+  {
+    const FinishWatch watch(io, hooks.finished, capture);
+    while (!capture.stopped()) io.run_one();
+  }
+  signals.cancel();
+  out.flush();
+  if (hooks.on_stopped) hooks.on_stopped(capture.summary(), recorder.get());
+
+  if (report) {
+    report->finish();
+    report->print_findings(stderr, 3);
+    if (report_out) {
+      report->write(*report_out, setup.report_format.empty() ? report_format_for(setup.report_path)
+                                                             : setup.report_format);
+      report_out->flush();
+      fmt::print(stderr, "{}: report written to {}\n", prefix, setup.report_path);
+    }
+  }
+}
+
+}  // namespace rtu::app

@@ -1,0 +1,46 @@
+#pragma once
+// One live session, as `rtuscope live` and `rtuscope demo` run it: frames decoded once by a
+// device stage, written as they come, optionally recorded and reported on; SIGINT/SIGTERM
+// end it. The commands differ only in what they hook in (the demo plays traffic onto the
+// bus it listens to, and ends when that traffic is over).
+#include <functional>
+#include <string>
+
+#include "app/device_options.hpp"
+#include "pipeline/live_capture.hpp"
+#include "pipeline/pcapng_recorder.hpp"
+
+namespace rtu::app {
+
+struct LiveSessionSetup {
+  LiveOptions capture;
+  std::string format = "text";  // of the frames: "text" or "jsonl"
+  std::string output = "-";     // where the frames go
+  std::string record_path;      // pcapng recording ("" = none)
+  RotationPolicy rotation;
+  std::string report_path;    // traffic report file ("" = none)
+  std::string report_format;  // "" = from report_path's name
+  // Gather the report's statistics and list its findings even without a report file.
+  bool always_report = false;
+  std::string prefix = "rtuscope";  // of every message on stderr
+};
+
+// What a command adds to the session. Every hook may be left empty.
+struct LiveSessionHooks {
+  // The capture's ports are open and it is reading.
+  std::function<void(const LiveCapture& capture)> on_listening;
+  // Asked every 20 ms while it runs: true ends the session (as a stop would).
+  std::function<bool()> finished;
+  // SIGINT or SIGTERM came. Empty: the session ends.
+  std::function<void()> on_signal;
+  // The capture stopped and the frames were flushed: say what the run did. The recorder is
+  // null when nothing was recorded. The report, if any, comes after.
+  std::function<void(const LiveSummary& summary, const PcapngRecorder* recorder)> on_stopped;
+};
+
+// Runs the session until it stops: throws InputError (a bad output or report path, a map
+// error) or SerialOpenError (a port that cannot be opened) before any frame.
+void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
+                      const LiveSessionHooks& hooks);
+
+}  // namespace rtu::app

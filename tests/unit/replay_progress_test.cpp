@@ -54,7 +54,9 @@ struct Seen {
     ASSERT_NE(final_call, nullptr);
     EXPECT_TRUE(final_call->pass_done);
     EXPECT_GE(middle, 1) << "no report between the start and the end";
-    if (complete) EXPECT_EQ(final_call->bytes_read, size);
+    if (complete) {
+      EXPECT_EQ(final_call->bytes_read, size);
+    }
   }
 };
 

@@ -5,6 +5,7 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
+#include "app/progress_line.hpp"
 #include "app/record_writer.hpp"
 #include "capture/capture_formats.hpp"
 #include "core/output_stream.hpp"
@@ -21,6 +22,7 @@ struct DecodeArgs {
   std::string output = "-";
   LineOptions line;
   DeviceOptions devices;
+  bool quiet = false;
 };
 
 void setup_decode(CLI::App& app, int& exit_code) {
@@ -32,9 +34,12 @@ void setup_decode(CLI::App& app, int& exit_code) {
   cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
   args->line.add_to(*cmd);
   args->devices.add_to(*cmd);
+  add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build(options);
+    ProgressLine progress(progress_wanted(args->quiet, args->output));
+    progress.attach(options, "decoding");
     OutputStream out(args->output);
     const auto writer = make_record_writer(args->format, out, false);
     dissect::DeviceTable no_devices;  // plain Modbus when no slave is named

@@ -7,6 +7,7 @@
 
 #include "app/command.hpp"
 #include "app/line_options.hpp"
+#include "app/progress_line.hpp"
 #include "capture/byte_output.hpp"
 #include "capture/capture_formats.hpp"
 #include "core/input_error.hpp"
@@ -22,6 +23,7 @@ struct ExportArgs {
   std::string output;
   bool raw = false;
   LineOptions line;
+  bool quiet = false;
 };
 
 void setup_export(CLI::App& app, int& exit_code) {
@@ -37,6 +39,7 @@ void setup_export(CLI::App& app, int& exit_code) {
   cmd->add_flag("--raw", args->raw,
                 "Also write every raw read and line event (LINKTYPE_RTAC_SERIAL; pcapng only)");
   args->line.add_to(*cmd);
+  add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
     PcapExportOptions options;
     options.format = export_format_for_path(args->output).factory;
@@ -49,7 +52,10 @@ void setup_export(CLI::App& app, int& exit_code) {
     ReplayOptions replay = args->line.to_replay_options();
     PcapExportSink sink(std::make_unique<FileOutput>(args->output), options);
     if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
+    ProgressLine progress(progress_wanted(args->quiet, args->output));
+    progress.attach(replay, "exporting");
     replay_capture(args->file, replay, sink);
+    progress.erase();
     const auto& counts = sink.counts();
     fmt::print(stderr, "rtuscope: {}: {} frames, {} noise records{}\n", args->output, counts.frames,
                counts.noise,

@@ -7,6 +7,7 @@
 #include "app/command.hpp"
 #include "app/identify_models.hpp"
 #include "app/line_options.hpp"
+#include "app/progress_line.hpp"
 #include "capture/capture_formats.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
@@ -28,6 +29,7 @@ struct ReportArgs {
   LineOptions line;
   DeviceOptions devices;
   bool no_identify = false;
+  bool quiet = false;
 };
 
 void setup_report(CLI::App& app, int& exit_code) {
@@ -45,13 +47,18 @@ void setup_report(CLI::App& app, int& exit_code) {
   cmd->add_flag("--no-identify", args->no_identify,
                 "Do not recognise unnamed slaves' models from the traffic (saves a pass over "
                 "the file); they keep raw registers");
+  add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build_with_maps(options);
+    // The report is written at the end, so only a CSV on standard output competes with the line.
+    ProgressLine progress(progress_wanted(args->quiet, args->csv));
     // Slaves no option names are identified from a first look at the whole capture.
     if (!args->no_identify) {
       identify_models(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
-        replay_capture(args->file, o, sink);
+        ReplayOptions shown = o;
+        progress.attach(shown, "identifying");
+        replay_capture(args->file, shown, sink);
       });
     }
     TrafficStats stats(&devices->table);
@@ -65,7 +72,9 @@ void setup_report(CLI::App& app, int& exit_code) {
       sinks.add(*csv);
     }
     dissect::DeviceStage stage(devices->table, sinks, true);
+    progress.attach(options, "decoding");
     replay_capture(args->file, options, stage);
+    progress.erase();
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);
     OutputStream out(args->output);

@@ -59,6 +59,10 @@ class CaptureReader {
   // True when the format can hold frames with known boundaries (on_frame / on_noise). When
   // such a capture holds no chunks, its timing comes from those records, not from reads.
   [[nodiscard]] virtual bool holds_frames() const { return false; }
+  // How far reading has got, in bytes of the input, and the input's size (0 = unknown): only
+  // for showing progress. Approximate: readers read ahead through buffers.
+  [[nodiscard]] virtual std::uint64_t bytes_read() const { return 0; }
+  [[nodiscard]] virtual std::uint64_t input_size() const { return 0; }
   // Doubts about what was read so far that every output must state (e.g. records cut short);
   // complete at the end. Passing warnings (a clamped time) go to the reader's WarningSink.
   [[nodiscard]] virtual std::vector<std::string> capture_warnings() const { return {}; }

@@ -4,6 +4,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 
 #include "core/input_error.hpp"
 
@@ -19,6 +21,9 @@ LineReader::LineReader(const std::string& path) : path_(path), buffer_(new char[
   line_.reserve(kTypicalLine);  // lines straddling two fills then need no allocation
   file_.reset(std::fopen(path.c_str(), "rb"));
   if (!file_) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+  std::error_code error;
+  const auto size = std::filesystem::file_size(path, error);
+  if (!error) size_ = size;
 }
 
 bool LineReader::fill() {
@@ -33,6 +38,7 @@ bool LineReader::fill() {
   }
   begin_ = 0;
   end_ = n;
+  fetched_ += n;
   return n > 0;
 }
 

@@ -27,6 +27,10 @@ class LineReader {
   // 1-based number of the line last returned by next().
   [[nodiscard]] std::uint64_t line_number() const { return line_number_; }
   [[nodiscard]] const std::string& path() const { return path_; }
+  // Bytes of the file up to the end of the line last returned (for progress), and the file's
+  // size when it was opened (0 when it cannot be told, e.g. a pipe).
+  [[nodiscard]] std::uint64_t bytes_read() const { return fetched_ - (end_ - begin_); }
+  [[nodiscard]] std::uint64_t size() const { return size_; }
 
  private:
   bool fill();
@@ -42,6 +46,8 @@ class LineReader {
   bool eof_ = false;
   std::string line_;  // holds a line that straddles two buffer fills
   std::uint64_t line_number_ = 0;
+  std::uint64_t fetched_ = 0;  // bytes read from the file into buffer_ so far
+  std::uint64_t size_ = 0;
 };
 
 }  // namespace rtu

@@ -29,6 +29,8 @@ class PcapCaptureReader final : public CaptureReader {
     return importer_.declared_timeout();
   }
   [[nodiscard]] bool holds_frames() const override { return true; }
+  [[nodiscard]] std::uint64_t bytes_read() const override { return importer_.bytes_read(); }
+  [[nodiscard]] std::uint64_t input_size() const override { return importer_.input_size(); }
   // Records cut short by the capturing tool: the bytes they lack show as damaged frames,
   // and the user must know why.
   [[nodiscard]] std::vector<std::string> capture_warnings() const override;

@@ -115,6 +115,12 @@ PcapImporter::~PcapImporter() = default;
 const std::string& PcapImporter::name() const {
   return reader_->name();
 }
+std::uint64_t PcapImporter::bytes_read() const {
+  return reader_->bytes_read();
+}
+std::uint64_t PcapImporter::input_size() const {
+  return reader_->size();
+}
 
 bool PcapImporter::fetch() {
   if (have_packet_) return true;

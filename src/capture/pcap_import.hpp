@@ -68,6 +68,9 @@ class PcapImporter {
   // The response timeout a live recording was decoded with, from "response timeout <ms> ms".
   [[nodiscard]] std::optional<Nanos> declared_timeout() const { return timeout_; }
   [[nodiscard]] const std::string& name() const;
+  // Bytes of the file read so far and its size, for progress (see PcapReader).
+  [[nodiscard]] std::uint64_t bytes_read() const;
+  [[nodiscard]] std::uint64_t input_size() const;
   // Records cut short among those read so far.
   [[nodiscard]] const CutRecords& cut_records() const { return cut_; }
 

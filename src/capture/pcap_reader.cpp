@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <system_error>
 
 #include "capture/byte_order.hpp"
 #include "capture/pcap_format.hpp"
@@ -110,6 +112,7 @@ struct PcapReader::Impl {
   CaptureFileFormat format = CaptureFileFormat::kPcap;
   ByteOrder order = ByteOrder::kLittle;
   std::uint64_t offset = 0;  // bytes consumed so far
+  std::uint64_t size = 0;    // of the file; 0 = unknown
   bool done = false;
   bool carry = false;  // block already holds the start of the next block
 
@@ -464,6 +467,9 @@ PcapReader::PcapReader(const std::string& path, std::vector<std::uint16_t> accep
   if (!*file) throw InputError(fmt::format("{}: cannot open file", path));
   impl_->in = std::move(file);
   impl_->name = path;
+  std::error_code error;
+  const auto size = std::filesystem::file_size(path, error);
+  if (!error) impl_->size = size;
   impl_->accepted = std::move(accepted_link_types);
   impl_->open();
 }
@@ -492,6 +498,12 @@ CaptureFileFormat PcapReader::format() const {
 }
 const std::string& PcapReader::name() const {
   return impl_->name;
+}
+std::uint64_t PcapReader::bytes_read() const {
+  return impl_->offset;
+}
+std::uint64_t PcapReader::size() const {
+  return impl_->size;
 }
 
 }  // namespace rtu

@@ -55,6 +55,9 @@ class PcapReader {
 
   [[nodiscard]] CaptureFileFormat format() const;
   [[nodiscard]] const std::string& name() const;
+  // Bytes consumed so far (for progress), and the file's size (0 when read from a stream).
+  [[nodiscard]] std::uint64_t bytes_read() const;
+  [[nodiscard]] std::uint64_t size() const;
 
  private:
   struct Impl;

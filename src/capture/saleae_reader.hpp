@@ -60,6 +60,8 @@ class SaleaeReader final : public ChunkSource {
   // Step of the finest start time seen so far (most decimals), as for text captures.
   [[nodiscard]] Nanos timestamp_precision() const override;
   [[nodiscard]] std::string name() const override { return lines_.path(); }
+  [[nodiscard]] std::uint64_t bytes_read() const override { return lines_.bytes_read(); }
+  [[nodiscard]] std::uint64_t input_size() const override { return lines_.size(); }
   [[nodiscard]] SaleaeLayout layout() const { return layout_; }
 
  private:

@@ -50,6 +50,8 @@ class TextHexReader final : public ChunkSource {
   // really ticks is for the decoder to estimate from the data.
   [[nodiscard]] Nanos timestamp_precision() const override;
   [[nodiscard]] std::string name() const override { return lines_.path(); }
+  [[nodiscard]] std::uint64_t bytes_read() const override { return lines_.bytes_read(); }
+  [[nodiscard]] std::uint64_t input_size() const override { return lines_.size(); }
 
  private:
   struct PartialSettings {

@@ -62,6 +62,32 @@ class Feed final : public CaptureConsumer {
   Nanos char_time_;
 };
 
+// Tells ReplayOptions::on_progress how far one pass over a reader has got.
+class PassProgress {
+ public:
+  PassProgress(const CaptureReader& reader, ReplayProgress::Pass pass, const ReplayOptions& options)
+      : reader_(reader), options_(options) {
+    progress_.pass = pass;
+  }
+  // After each record read; only every kProgressEvery-th one costs more than an increment.
+  void tick() {
+    if (++progress_.records % kProgressEvery == 0) report(false);
+  }
+  void done() { report(true); }
+
+ private:
+  void report(bool pass_done) {
+    if (!options_.on_progress) return;
+    progress_.bytes_read = reader_.bytes_read();
+    progress_.input_size = reader_.input_size();
+    progress_.pass_done = pass_done;
+    options_.on_progress(progress_);
+  }
+  const CaptureReader& reader_;
+  const ReplayOptions& options_;
+  ReplayProgress progress_;
+};
+
 }  // namespace
 
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
@@ -70,13 +96,14 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
   auto first =
       options.show_warnings ? open(print_warning_to_stderr) : open([](std::string_view) {});
   Survey survey;
+  PassProgress survey_progress(*first, ReplayProgress::Pass::kSurvey, options);
   try {
-    while (first->read(survey)) {
-    }
+    while (first->read(survey)) survey_progress.tick();
   } catch (const InputError&) {
     // Damaged input: learn from what precedes the damage; pass 2 decodes up to it and
     // then reports the error.
   }
+  survey_progress.done();
   // Frame records are decoded as they are only when there are no raw reads to re-frame.
   const bool use_chunks = survey.chunks > 0 || !first->holds_frames();
   const Nanos precision = first->timestamp_precision();
@@ -128,13 +155,15 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
   pipeline.start(info);
   auto second = open([](std::string_view) {});
   Feed feed(pipeline, options, use_chunks, info.line.char_time());
+  PassProgress decode_progress(*second, ReplayProgress::Pass::kDecode, options);
   try {
-    while (second->read(feed)) {
-    }
+    while (second->read(feed)) decode_progress.tick();
   } catch (...) {
+    decode_progress.done();
     pipeline.finish();  // everything before the damage is still delivered
     throw;
   }
+  decode_progress.done();
   pipeline.finish();
   return info;
 }

@@ -10,6 +10,7 @@
 // otherwise the frame records are decoded as they are: CRC-checked, classified and paired
 // again, each frame's end estimated as its start plus its length in character times. A frame
 // record longer than 256 bytes is split into frames and noise (see DecodePipeline::push_frame).
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -23,6 +24,17 @@
 
 namespace rtu {
 
+// How far a replay has got, for a progress display (the driver itself never prints).
+struct ReplayProgress {
+  // Which read of the file: the first learns its timing, the second decodes.
+  enum class Pass : std::uint8_t { kSurvey, kDecode };
+  Pass pass = Pass::kSurvey;
+  std::uint64_t bytes_read = 0;  // input bytes consumed in this pass
+  std::uint64_t input_size = 0;  // bytes of input in all; 0 = unknown
+  std::uint64_t records = 0;     // capture records (reads, frames) read in this pass
+  bool pass_done = false;        // the last call of this pass (its reader ended or failed)
+};
+
 struct ReplayOptions {
   LineOverrides overrides;
   Nanos response_timeout = 1000 * kNanosPerMilli;
@@ -34,7 +46,12 @@ struct ReplayOptions {
   std::function<void(const Chunk&)> on_chunk;
   // Reader warnings go to stderr; off for an extra pass over a file already read once.
   bool show_warnings = true;
+  // Told every kProgressEvery records and at the end of each pass, when set.
+  std::function<void(const ReplayProgress&)> on_progress;
 };
+
+// Records between two progress calls: a clock read per call stays off the hot path.
+inline constexpr std::uint64_t kProgressEvery = 4096;
 
 // Opens a fresh reader over the same capture for each pass, its passing warnings to `warnings`.
 using CaptureOpener = std::function<std::unique_ptr<CaptureReader>(WarningSink warnings)>;

@@ -1,13 +1,14 @@
-// rtuscope report FILE [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
+// rtuscope report FILE... [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
 // diagnostics and ranked findings for a whole capture, in bounded memory.
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/command.hpp"
 #include "app/identify_models.hpp"
 #include "app/line_options.hpp"
-#include "capture/capture_formats.hpp"
+#include "capture/capture_paths.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -21,7 +22,7 @@ namespace rtu::app {
 namespace {
 
 struct ReportArgs {
-  std::string file;
+  std::vector<std::string> files;
   std::string format = "text";
   std::string output = "-";
   std::string csv;
@@ -34,7 +35,7 @@ void setup_report(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand(
       "report", "Statistics, timing diagnostics and likely causes of problems for a capture");
-  cmd->add_option("file", args->file, capture_file_help())->required();
+  cmd->add_option("file", args->files, capture_files_help())->required();
   cmd->add_option("--format", args->format, "Report format")
       ->check(CLI::IsMember(format_names(report_formats())));
   cmd->add_option("-o,--output", args->output, "Report file (default: standard output)");
@@ -46,12 +47,13 @@ void setup_report(CLI::App& app, int& exit_code) {
                 "Do not recognise unnamed slaves' models from the traffic (saves a pass over "
                 "the file); they keep raw registers");
   cmd->callback([args, &exit_code] {
+    const auto files = expand_capture_paths(args->files);
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build_with_maps(options);
     // Slaves no option names are identified from a first look at the whole capture.
     if (!args->no_identify) {
       identify_models(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
-        replay_capture(args->file, o, sink);
+        replay_capture(files, o, sink);
       });
     }
     TrafficStats stats(&devices->table);
@@ -65,7 +67,7 @@ void setup_report(CLI::App& app, int& exit_code) {
       sinks.add(*csv);
     }
     dissect::DeviceStage stage(devices->table, sinks, true);
-    replay_capture(args->file, options, stage);
+    replay_capture(files, options, stage);
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);
     OutputStream out(args->output);

@@ -141,17 +141,7 @@ bool CaptureSetReader::read(CaptureConsumer& to) {
 void CaptureSetReader::open_next() {
   const std::size_t index = next_;
   File& file = files_[index];
-  if (file.first && last_time_) {
-    const File& before = files_[last_file_];
-    if (*file.first < *last_time_) {
-      throw InputError(fmt::format(
-          "{}: its first record ({}) is earlier than the last record of {} ({}): the files "
-          "overlap in time, so they are not consecutive files of one capture",
-          file.path, time_text(*file.first), before.path, time_text(*last_time_)));
-    }
-    file.silence_before = *file.first - *last_time_;
-    file.previous = last_file_;
-  }
+  // Another line first: when files of two lines also overlap, that is the cause.
   if (file.declared) {
     for (std::size_t i = 0; i < index; ++i) {
       const auto& earlier = files_[i].declared;
@@ -164,6 +154,17 @@ void CaptureSetReader::open_next() {
       }
       break;
     }
+  }
+  if (file.first && last_time_) {
+    const File& before = files_[last_file_];
+    if (*file.first < *last_time_) {
+      throw InputError(fmt::format(
+          "{}: its first record ({}) is earlier than the last record of {} ({}): the files "
+          "overlap in time, so they are not consecutive files of one capture",
+          file.path, time_text(*file.first), before.path, time_text(*last_time_)));
+    }
+    file.silence_before = *file.first - *last_time_;
+    file.previous = last_file_;
   }
   ++next_;
   current_ = open_(file.path, warnings_);

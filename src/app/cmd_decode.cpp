@@ -1,13 +1,14 @@
-// rtuscope decode FILE [--format text|jsonl]: frames, pairs and decodes a capture.
+// rtuscope decode FILE... [--format text|jsonl]: frames, pairs and decodes a capture.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/progress_line.hpp"
 #include "app/record_writer.hpp"
-#include "capture/capture_formats.hpp"
+#include "capture/capture_paths.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/replay.hpp"
@@ -17,7 +18,7 @@ namespace rtu::app {
 namespace {
 
 struct DecodeArgs {
-  std::string file;
+  std::vector<std::string> files;
   std::string format = "text";
   std::string output = "-";
   LineOptions line;
@@ -28,7 +29,7 @@ struct DecodeArgs {
 void setup_decode(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<DecodeArgs>();
   auto* cmd = app.add_subcommand("decode", "Decode a capture file into frames and transactions");
-  cmd->add_option("file", args->file, capture_file_help())->required();
+  cmd->add_option("file", args->files, capture_files_help())->required();
   cmd->add_option("--format", args->format, "Output format")
       ->check(CLI::IsMember(format_names(record_formats())));
   cmd->add_option("-o,--output", args->output, "Output file (default: standard output)");
@@ -36,6 +37,7 @@ void setup_decode(CLI::App& app, int& exit_code) {
   args->devices.add_to(*cmd);
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
+    const auto files = expand_capture_paths(args->files);
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build(options);
     ProgressLine progress(progress_wanted(args->quiet, args->output));
@@ -44,7 +46,7 @@ void setup_decode(CLI::App& app, int& exit_code) {
     const auto writer = make_record_writer(args->format, out, false);
     dissect::DeviceTable no_devices;  // plain Modbus when no slave is named
     dissect::DeviceStage stage(devices ? devices->table : no_devices, *writer);
-    replay_capture(args->file, options, stage);
+    replay_capture(files, options, stage);
     exit_code = 0;
   });
 }

@@ -1,15 +1,16 @@
-// rtuscope export FILE -o OUT.pcapng|OUT.pcap [--raw]: decodes a capture and writes the
+// rtuscope export FILE... -o OUT.pcapng|OUT.pcap [--raw]: decodes a capture and writes the
 // frames (and with --raw the raw reads and line events) for Wireshark.
 #include <fmt/format.h>
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/command.hpp"
 #include "app/line_options.hpp"
 #include "app/progress_line.hpp"
 #include "capture/byte_output.hpp"
-#include "capture/capture_formats.hpp"
+#include "capture/capture_paths.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/replay.hpp"
 #include "report/export_formats.hpp"
@@ -19,7 +20,7 @@ namespace rtu::app {
 namespace {
 
 struct ExportArgs {
-  std::string file;
+  std::vector<std::string> files;
   std::string output;
   bool raw = false;
   LineOptions line;
@@ -34,13 +35,14 @@ void setup_export(CLI::App& app, int& exit_code) {
       "reads and line events on a second interface) or OUT.pcap (frames only). Open with "
       "`-o mbrtu.tcp.port:502 -o mbrtu.crc_verification:TRUE` to classify every function "
       "code and check CRCs.");
-  cmd->add_option("file", args->file, capture_file_help())->required();
+  cmd->add_option("file", args->files, capture_files_help())->required();
   cmd->add_option("-o,--output", args->output, export_output_help())->required();
   cmd->add_flag("--raw", args->raw,
                 "Also write every raw read and line event (LINKTYPE_RTAC_SERIAL; pcapng only)");
   args->line.add_to(*cmd);
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
+    const auto files = expand_capture_paths(args->files);
     PcapExportOptions options;
     options.format = export_format_for_path(args->output).factory;
     if (options.format == PcapExportFormat::kPcap && args->raw) {
@@ -54,7 +56,7 @@ void setup_export(CLI::App& app, int& exit_code) {
     if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
     ProgressLine progress(progress_wanted(args->quiet, args->output));
     progress.attach(replay, "exporting");
-    replay_capture(args->file, replay, sink);
+    replay_capture(files, replay, sink);
     progress.erase();
     const auto& counts = sink.counts();
     fmt::print(stderr, "rtuscope: {}: {} frames, {} noise records{}\n", args->output, counts.frames,

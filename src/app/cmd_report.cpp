@@ -1,14 +1,16 @@
-// rtuscope report FILE [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
+// rtuscope report FILE... [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
 // diagnostics and ranked findings for a whole capture, in bounded memory.
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/command.hpp"
 #include "app/identify_models.hpp"
 #include "app/line_options.hpp"
 #include "app/progress_line.hpp"
 #include "capture/capture_formats.hpp"
+#include "capture/capture_paths.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -22,7 +24,7 @@ namespace rtu::app {
 namespace {
 
 struct ReportArgs {
-  std::string file;
+  std::vector<std::string> files;
   std::string format = "text";
   std::string output = "-";
   std::string csv;
@@ -36,7 +38,7 @@ void setup_report(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand(
       "report", "Statistics, timing diagnostics and likely causes of problems for a capture");
-  cmd->add_option("file", args->file, capture_file_help())->required();
+  cmd->add_option("file", args->files, capture_files_help())->required();
   cmd->add_option("--format", args->format, "Report format")
       ->check(CLI::IsMember(format_names(report_formats())));
   cmd->add_option("-o,--output", args->output, "Report file (default: standard output)");
@@ -49,6 +51,7 @@ void setup_report(CLI::App& app, int& exit_code) {
                 "the file); they keep raw registers");
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
+    const auto files = expand_capture_paths(args->files);
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build_with_maps(options);
     // The report is written at the end, so only a CSV on standard output competes with the line.
@@ -58,7 +61,7 @@ void setup_report(CLI::App& app, int& exit_code) {
       identify_models(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
         ReplayOptions shown = o;
         progress.attach(shown, "identifying");
-        replay_capture(args->file, shown, sink);
+        replay_capture(files, shown, sink);
       });
     }
     TrafficStats stats(&devices->table);
@@ -73,7 +76,7 @@ void setup_report(CLI::App& app, int& exit_code) {
     }
     dissect::DeviceStage stage(devices->table, sinks, true);
     progress.attach(options, "decoding");
-    replay_capture(args->file, options, stage);
+    replay_capture(files, options, stage);
     progress.erase();
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);

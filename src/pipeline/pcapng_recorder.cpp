@@ -120,7 +120,7 @@ void PcapngRecorder::maybe_rotate(Nanos t) {
 
 void PcapngRecorder::write(std::size_t port, Nanos t, RtacEvent event,
                            std::span<const std::uint8_t> bytes, std::string_view comment) {
-  maybe_rotate(t);
+  if (!writer_) open_file(t);
   build_rtac_record(t, event, 0, bytes, buffer_);
   PcapngPacketMeta meta;
   meta.comment = comment;
@@ -133,6 +133,11 @@ void PcapngRecorder::write(std::size_t port, Nanos t, RtacEvent event,
 void PcapngRecorder::on_chunk(std::size_t port, const Chunk& chunk) {
   const RtacEvent data_event =
       ports_.size() == 2 && port == 0 ? RtacEvent::kDataTxStart : RtacEvent::kDataRxStart;
+  // A new file starts only before a whole read: the records of one read (split where its
+  // line errors change) are joined again by their common time only within one file, and a
+  // lost-data event flags the next byte read only when that byte is in the same file.
+  if (!event_waits_for_byte_) maybe_rotate(chunk.t_end);
+  event_waits_for_byte_ = false;
   if (chunk.errors.empty()) {
     write(port, chunk.t_end, data_event, chunk.bytes, {});
     return;
@@ -149,9 +154,12 @@ void PcapngRecorder::on_chunk(std::size_t port, const Chunk& chunk) {
 }
 
 void PcapngRecorder::on_gap(std::size_t port, Nanos t, const std::string& reason) {
+  maybe_rotate(t);
   write(port, t, RtacEvent::kCaptureDataLost, {}, reason);
+  event_waits_for_byte_ = true;
 }
 
+// The end goes into the file that holds the last reads, never alone into a new one.
 void PcapngRecorder::on_end(Nanos t) {
   write(0, t, RtacEvent::kCaptureComplete, {}, "capture stopped");
 }

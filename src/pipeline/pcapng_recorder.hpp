@@ -16,6 +16,9 @@
 //
 // Rotation: with a size or age limit, files are named <stem>-0001<ext>, -0002, ...; each
 // holds its own header and interfaces; only the newest `keep` files are kept (0 = all).
+// A new file starts only before a whole read (never between the records of one read, nor
+// between a lost-data event and the byte it flags), so the files read in time order as one
+// set (capture/capture_set_reader.hpp) decode exactly as one file would.
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -76,6 +79,7 @@ class PcapngRecorder final : public ChunkRecorder {
   Nanos file_started_ = kUnknownTime;
   std::uint64_t file_index_ = 0;
   std::uint64_t records_ = 0;
+  bool event_waits_for_byte_ = false;  // a lost-data event flags the next byte read
 };
 
 }  // namespace rtu

@@ -4,6 +4,7 @@
 #include <span>
 #include <utility>
 
+#include "capture/capture_paths.hpp"
 #include "capture/open_capture.hpp"
 #include "core/input_error.hpp"
 #include "framing/timing_estimator.hpp"
@@ -172,6 +173,13 @@ CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options
                            RecordSink& sink) {
   return replay_capture(
       [&path](WarningSink warnings) { return open_capture(path, std::move(warnings)); }, options,
+      sink);
+}
+
+CaptureInfo replay_capture(const std::vector<std::string>& paths, const ReplayOptions& options,
+                           RecordSink& sink) {
+  return replay_capture(
+      [&paths](WarningSink warnings) { return open_captures(paths, std::move(warnings)); }, options,
       sink);
 }
 

@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
@@ -62,5 +63,9 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
                            RecordSink& sink);
 // The same for the file `path`, read by the reader of its format (open_capture).
 CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options, RecordSink& sink);
+// The same for several files read as one capture in time order (capture/capture_paths.hpp);
+// one path reads exactly as above.
+CaptureInfo replay_capture(const std::vector<std::string>& paths, const ReplayOptions& options,
+                           RecordSink& sink);
 
 }  // namespace rtu

@@ -14,17 +14,8 @@ namespace {
 
 using test::frame_with_crc;
 
-std::vector<unsigned> words(WordView v) {
-  std::vector<unsigned> out;
-  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i]);
-  return out;
-}
-
-std::vector<int> bits(BitView v) {
-  std::vector<int> out;
-  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i] ? 1 : 0);
-  return out;
-}
+using test::bits;
+using test::words;
 
 // True when `view` lies inside the record's bytes (the access copies nothing).
 bool inside(std::span<const std::uint8_t> view, const Record& r) {

@@ -30,17 +30,8 @@ const Record& kept(std::string_view address_and_pdu_hex) {
   return frames.back();
 }
 
-std::vector<unsigned> words(WordView v) {
-  std::vector<unsigned> out;
-  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i]);
-  return out;
-}
-
-std::vector<int> bits(BitView v) {
-  std::vector<int> out;
-  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i] ? 1 : 0);
-  return out;
-}
+using test::bits;
+using test::words;
 
 std::vector<unsigned> bytes(std::span<const std::uint8_t> s) {
   return {s.begin(), s.end()};

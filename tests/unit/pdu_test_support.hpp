@@ -5,6 +5,7 @@
 #include <cctype>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/crc16.hpp"
 #include "core/json_writer.hpp"
@@ -60,6 +61,19 @@ inline std::string pdu_summary(const DecodedPdu& pdu) {
   fmt::memory_buffer buf;
   append_pdu_summary(buf, pdu);
   return fmt::to_string(buf);
+}
+
+// The values of a view, for comparing with a list.
+inline std::vector<unsigned> words(WordView v) {
+  std::vector<unsigned> out;
+  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i]);
+  return out;
+}
+
+inline std::vector<int> bits(BitView v) {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i] ? 1 : 0);
+  return out;
 }
 
 }  // namespace rtu::test

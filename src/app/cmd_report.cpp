@@ -1,5 +1,6 @@
 // rtuscope report FILE... [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
 // diagnostics and ranked findings for a whole capture, in bounded memory.
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,7 @@ struct ReportArgs {
   LineOptions line;
   DeviceOptions devices;
   bool no_identify = false;
+  std::uint64_t identify_frames = kIdentifySampleFrames;
   bool quiet = false;
 };
 
@@ -47,22 +49,32 @@ void setup_report(CLI::App& app, int& exit_code) {
   args->line.add_to(*cmd);
   args->devices.add_to(*cmd);
   cmd->add_flag("--no-identify", args->no_identify,
-                "Do not recognise unnamed slaves' models from the traffic (saves a pass over "
-                "the file); they keep raw registers");
+                "Do not recognise unnamed slaves' models from the traffic; they keep raw "
+                "registers");
+  cmd->add_option("--identify-frames", args->identify_frames,
+                  "Recognise unnamed slaves' models from this many first frames (0 = the whole "
+                  "capture); slaves first heard later keep raw registers")
+      ->capture_default_str();
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
     const auto files = expand_capture_paths(args->files);
+    const CaptureOpener capture = capture_opener(files);
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build_with_maps(options);
     // The report is written at the end, so only a CSV on standard output competes with the line.
     ProgressLine progress(progress_wanted(args->quiet, args->csv));
-    // Slaves no option names are identified from a first look at the whole capture.
+    // One survey serves both decoding passes.
+    progress.attach(options, "decoding");
+    const CaptureSurvey survey = survey_capture(capture, options);
+    // Slaves no option names are identified from a first look at the capture (a sample, done
+    // in a moment: the line stays on the survey meanwhile).
     if (!args->no_identify) {
-      identify_models(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
-        ReplayOptions shown = o;
-        progress.attach(shown, "identifying");
-        replay_capture(files, shown, sink);
-      });
+      identify_models(*devices, options, args->identify_frames,
+                      [&](const ReplayOptions& o, RecordSink& sink) {
+                        ReplayOptions silent = o;
+                        silent.on_progress = nullptr;
+                        decode_capture(capture, survey, silent, sink);
+                      });
     }
     TrafficStats stats(&devices->table);
     RecordFanout sinks;
@@ -76,7 +88,7 @@ void setup_report(CLI::App& app, int& exit_code) {
     }
     dissect::DeviceStage stage(devices->table, sinks, true);
     progress.attach(options, "decoding");
-    replay_capture(files, options, stage);
+    decode_capture(capture, survey, options, stage);
     progress.erase();
     if (csv) csv->flush();
     const std::vector<Finding> findings = find_problems(stats);

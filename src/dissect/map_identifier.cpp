@@ -77,9 +77,14 @@ void MapIdentifier::on_record(Record& record) {
       it->second.push_back(std::move(c));
     }
   }
-  if (record.role == Role::kRequest) on_request(record, it->second);
+  std::vector<Candidate>& candidates = it->second;
+  if (requests_per_slave_ > 0 && !candidates.empty() &&
+      candidates.front().evidence.requests >= requests_per_slave_) {
+    return;
+  }
+  if (record.role == Role::kRequest) on_request(record, candidates);
   if (record.role == Role::kResponse && record.request != nullptr) {
-    on_response(record, it->second);
+    on_response(record, candidates);
   }
 }
 

@@ -38,7 +38,11 @@ struct SlaveRanking {
 
 class MapIdentifier : public RecordSink {
  public:
-  explicit MapIdentifier(const MapLibrary& library) : library_(library) {}
+  // `requests_per_slave`: once a slave has sent that many requests, its evidence is complete
+  // and later frames of it are left aside (0 = weigh every frame), so that identifying costs
+  // a bounded effort per slave however busy the bus is.
+  explicit MapIdentifier(const MapLibrary& library, std::uint64_t requests_per_slave = 0)
+      : library_(library), requests_per_slave_(requests_per_slave) {}
   void on_record(Record& record) override;
   [[nodiscard]] std::vector<SlaveRanking> ranking() const;
 
@@ -51,6 +55,7 @@ class MapIdentifier : public RecordSink {
   void on_response(const Record& response, std::vector<Candidate>& candidates);
 
   const MapLibrary& library_;
+  std::uint64_t requests_per_slave_;
   std::map<std::uint8_t, std::vector<Candidate>> slaves_;
   RegisterDecoder decoder_;
   Decoded decoded_;

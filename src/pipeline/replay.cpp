@@ -91,9 +91,8 @@ class PassProgress {
 
 }  // namespace
 
-CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
-                           RecordSink& sink) {
-  // Pass 1: timing resolution and declared settings. Reader warnings are shown once, here.
+CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& options) {
+  // Reader warnings are shown once, here.
   auto first =
       options.show_warnings ? open(print_warning_to_stderr) : open([](std::string_view) {});
   Survey survey;
@@ -105,13 +104,14 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
     // then reports the error.
   }
   survey_progress.done();
+  CaptureSurvey result;
   // Frame records are decoded as they are only when there are no raw reads to re-frame.
-  const bool use_chunks = survey.chunks > 0 || !first->holds_frames();
+  result.use_chunks = survey.chunks > 0 || !first->holds_frames();
   const Nanos precision = first->timestamp_precision();
   const auto declared = first->declared_settings();
-  const bool exact = first->timing_kind() == TimingKind::kPerByteExact;
+  result.per_byte_exact = first->timing_kind() == TimingKind::kPerByteExact;
 
-  CaptureInfo info;
+  CaptureInfo& info = result.info;
   info.source = first->name();
   for (auto& warning : first->capture_warnings()) {
     // Not silent: what the file lacks shows as damaged frames, and the user must know why.
@@ -122,8 +122,8 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
   if (options.overrides.baud) info.line.baud = *options.overrides.baud;
   if (options.overrides.parity) info.line.parity = *options.overrides.parity;
   if (options.overrides.stop_bits) info.line.stop_bits = *options.overrides.stop_bits;
-  if (use_chunks) {
-    info.per_byte_timing = exact || survey.estimator.mostly_single_bytes();
+  if (result.use_chunks) {
+    info.per_byte_timing = result.per_byte_exact || survey.estimator.mostly_single_bytes();
     // A live recording declares the resolution its port achieved; replay uses the same,
     // so it frames exactly as the live run did.
     info.timing_resolution =
@@ -143,22 +143,28 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
   }
   add_line_warnings(info, declared.has_value(), options.overrides, survey.line_check, precision,
                     options.show_warnings);
-  first.reset();
+  return result;
+}
 
-  // Pass 2: decode.
+void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
+                    const ReplayOptions& options, RecordSink& sink) {
+  const CaptureInfo& info = survey.info;
   PipelineOptions pipeline_options;
   pipeline_options.line = info.line;
   pipeline_options.response_timeout = info.response_timeout;
   pipeline_options.timing_resolution = info.timing_resolution;
   pipeline_options.learn_resolution = !options.resolution;
-  pipeline_options.per_byte_timing = exact;
+  pipeline_options.per_byte_timing = survey.per_byte_exact;
   DecodePipeline pipeline(pipeline_options, sink);
   pipeline.start(info);
-  auto second = open([](std::string_view) {});
-  Feed feed(pipeline, options, use_chunks, info.line.char_time());
-  PassProgress decode_progress(*second, ReplayProgress::Pass::kDecode, options);
+  auto reader = open([](std::string_view) {});
+  Feed feed(pipeline, options, survey.use_chunks, info.line.char_time());
+  PassProgress decode_progress(*reader, ReplayProgress::Pass::kDecode, options);
   try {
-    while (second->read(feed)) decode_progress.tick();
+    while (reader->read(feed)) {
+      decode_progress.tick();
+      if (options.enough && options.enough()) break;
+    }
   } catch (...) {
     decode_progress.done();
     pipeline.finish();  // everything before the damage is still delivered
@@ -166,21 +172,31 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
   }
   decode_progress.done();
   pipeline.finish();
-  return info;
+}
+
+CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
+                           RecordSink& sink) {
+  const CaptureSurvey survey = survey_capture(open, options);
+  decode_capture(open, survey, options, sink);
+  return survey.info;
+}
+
+CaptureOpener capture_opener(const std::string& path) {
+  return [path](WarningSink warnings) { return open_capture(path, std::move(warnings)); };
+}
+
+CaptureOpener capture_opener(const std::vector<std::string>& paths) {
+  return [paths](WarningSink warnings) { return open_captures(paths, std::move(warnings)); };
 }
 
 CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options,
                            RecordSink& sink) {
-  return replay_capture(
-      [&path](WarningSink warnings) { return open_capture(path, std::move(warnings)); }, options,
-      sink);
+  return replay_capture(capture_opener(path), options, sink);
 }
 
 CaptureInfo replay_capture(const std::vector<std::string>& paths, const ReplayOptions& options,
                            RecordSink& sink) {
-  return replay_capture(
-      [&paths](WarningSink warnings) { return open_captures(paths, std::move(warnings)); }, options,
-      sink);
+  return replay_capture(capture_opener(paths), options, sink);
 }
 
 }  // namespace rtu

@@ -49,6 +49,9 @@ struct ReplayOptions {
   bool show_warnings = true;
   // Told every kProgressEvery records and at the end of each pass, when set.
   std::function<void(const ReplayProgress&)> on_progress;
+  // Asked after every record of the decoding pass, when set: true ends the pass there, as
+  // if the capture ended (a bounded sample, such as identification's).
+  std::function<bool()> enough;
 };
 
 // Records between two progress calls: a clock read per call stays off the hot path.
@@ -56,6 +59,27 @@ inline constexpr std::uint64_t kProgressEvery = 4096;
 
 // Opens a fresh reader over the same capture for each pass, its passing warnings to `warnings`.
 using CaptureOpener = std::function<std::unique_ptr<CaptureReader>(WarningSink warnings)>;
+
+// What the first pass learned of a capture: how the second pass decodes it.
+struct CaptureSurvey {
+  CaptureInfo info;
+  bool use_chunks = true;       // raw reads are re-framed (else frame records are decoded)
+  bool per_byte_exact = false;  // a logic analyser's per-byte timing
+};
+
+// Pass 1 alone: reads the whole capture once, shows its reader warnings (when asked) and
+// says how to decode it. A capture damaged part-way is surveyed up to the damage.
+CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& options);
+
+// Pass 2 alone: decodes the capture as `survey` says, into `sink`. Several decoding passes
+// (identification, then the report) may share one survey.
+void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
+                    const ReplayOptions& options, RecordSink& sink);
+
+// Opens the file `path`, or the files `paths` as one capture in time order
+// (capture/capture_paths.hpp), by the reader of their format.
+CaptureOpener capture_opener(const std::string& path);
+CaptureOpener capture_opener(const std::vector<std::string>& paths);
 
 // Decodes the capture `open` reads into `sink` and returns what was learned about it.
 // Throws InputError for unusable input (after delivering every record before the damage).

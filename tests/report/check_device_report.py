@@ -6,8 +6,9 @@ With the capture's options (<name>.args: --device or --bus) every slave shows th
 the options give, marked "configured"; the CSV export holds exactly the values `rtuscope
 decode` shows for the same options (point name, value, unit, at the response's time), and
 the JSON points agree with the CSV. Without any option the same models are identified
-from the traffic, marked "identified", and the CSV is the same; with --no-identify the
-slaves have no model and raw registers. Run from the source tree
+from the traffic, marked "identified", and the CSV is the same; with --no-identify, or a
+sample of first frames too small to be sure (--identify-frames), the slaves have no model
+and raw registers. Run from the source tree
 (the .args name files relative to it).
 """
 import csv
@@ -114,7 +115,11 @@ def main():
     models = configured_models(args)
     if not models:
         fail(f"{args_path} names no slave")
-    work = tempfile.mkdtemp(prefix="rtuscope-device-report-")
+    with tempfile.TemporaryDirectory(prefix="rtuscope-device-report-") as work:
+        check(rtuscope, capture, args, models, work)
+
+
+def check(rtuscope, capture, args, models, work):
 
     js, rows = report(rtuscope, capture, args, work, "configured")
     for addr, model in models.items():
@@ -163,6 +168,15 @@ def main():
             fail(f"slave {addr} has a model despite --no-identify")
     if not rows_raw or not all(RAW_POINT.fullmatch(r[2]) for r in rows_raw):
         fail("--no-identify does not leave raw registers")
+    # Identification looks at a sample of first frames: 8 frames hold fewer requests than a
+    # confident model needs, so the slaves keep raw registers; 0 means the whole capture.
+    js_few, _ = report(rtuscope, capture, ["--identify-frames", "8"], work, "few")
+    for addr in models:
+        if js_few["slaves"][addr]["device"] is not None:
+            fail(f"slave {addr} identified from 8 frames")
+    js_all, rows_all = report(rtuscope, capture, ["--identify-frames", "0"], work, "all")
+    if js_all != js_id or rows_all != rows_id:
+        fail("--identify-frames 0 (the whole capture) differs from the default sample")
     text = run([rtuscope, "report", capture])
     for addr, model in models.items():
         if not re.search(rf"^\s+{addr} {re.escape(model)}\*\s", text, re.M):

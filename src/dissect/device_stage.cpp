@@ -1,6 +1,7 @@
 #include "dissect/device_stage.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 namespace rtu::dissect {
 namespace {
@@ -26,6 +27,7 @@ void append_named(const Record& frame, const std::vector<DecodedPoint>& points,
     v.point = p.point->name;
     v.value = to_decimals(p.value, p.point->decimals);
     v.unit = p.point->unit;
+    v.key = reinterpret_cast<std::uintptr_t>(p.point);
     out.push_back(v);
   }
 }

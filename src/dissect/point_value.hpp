@@ -15,6 +15,14 @@ struct PointValue {
   std::string_view point;  // valid while the record it hangs on is
   double value = 0.0;
   std::string_view unit;  // empty for raw values
+  // Which point of its slave this is, for fast lookups: equal keys mean equal names (a raw
+  // table and address, or the device map's point definition). 0 = not known.
+  std::uint64_t key = 0;
 };
+
+// The key of a raw value: the table's number and the address, with a bit no pointer sets.
+constexpr std::uint64_t raw_point_key(unsigned table, std::uint32_t addr) {
+  return (std::uint64_t{1} << 63U) | (std::uint64_t{table} << 32U) | addr;
+}
 
 }  // namespace rtu::dissect

@@ -20,34 +20,37 @@ bool carries_values(const Record& frame) {
   return !frame.issues.has(IssueId::kByteCount) && !request.issues.has(IssueId::kByteCount);
 }
 
+std::string_view RawValues::name_of(std::uint64_t key, std::string_view table, std::uint32_t addr) {
+  auto it = names_.find(key);
+  if (it != names_.end()) return it->second;
+  // Names handed out earlier in this call stay valid: unordered_map never moves its nodes,
+  // and the cache is only emptied before a record's first value.
+  return names_.emplace(key, fmt::format("{} 0x{:04X}", table, addr)).first->second;
+}
+
 void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
   if (!carries_values(frame)) return;
   // Only blocks whose byte counts fit exactly, from frames with nothing missing or extra.
   const DataAccess access = data_access(*frame.request, &frame);
   if (!access.issues.empty()) return;
-  const std::size_t first = out.size();
-  auto add = [&](std::string_view table, std::uint32_t addr, double value) {
-    const std::size_t i = out.size() - first;
-    if (i == names_.size()) names_.emplace_back();
-    names_[i].assign(table);
-    fmt::format_to(std::back_inserter(names_[i]), " 0x{:04X}", addr);
+  if (names_.size() > kMaxNames) names_.clear();
+  auto add = [&](DataTable table, std::uint32_t addr, double value) {
     PointValue v;
     v.t = frame.t_start;
     v.slave = frame.slave();
+    v.key = raw_point_key(static_cast<unsigned>(table), addr);
+    v.point = name_of(v.key, data_table_name(table), addr);
     v.value = value;
     out.push_back(v);
   };
   // In the device's order: FC23's read shows the registers after its write.
   for (const DataBlock& b : access) {
     if (!b.has_values || !b.count_fits) continue;
-    const std::string_view table = data_table_name(b.table);
     for (std::size_t k = 0; k < b.words.size(); ++k)
-      add(table, b.addr + static_cast<std::uint32_t>(k), b.words[k]);
+      add(b.table, b.addr + static_cast<std::uint32_t>(k), b.words[k]);
     for (std::size_t k = 0; k < b.bits.size(); ++k)
-      add(table, b.addr + static_cast<std::uint32_t>(k), b.bits[k] ? 1 : 0);
+      add(b.table, b.addr + static_cast<std::uint32_t>(k), b.bits[k] ? 1 : 0);
   }
-  // Named once all are in: growing names_ above may move the strings.
-  for (std::size_t i = first; i < out.size(); ++i) out[i].point = names_[i - first];
 }
 
 }  // namespace rtu::dissect

@@ -5,7 +5,9 @@
 // FC01-04 and FC23; written values from requests that a normal response confirms (FC05, 06,
 // 15, 16, 23). Only frames that carry_values() and whose byte counts fit their quantities
 // exactly give values: a value is reported only when the bytes are trustworthy.
+#include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "dissect/point_value.hpp"
@@ -25,7 +27,11 @@ class RawValues {
   void collect(const Record& response, std::vector<PointValue>& out);
 
  private:
-  std::vector<std::string> names_;  // reused: short names stay in their strings' own storage
+  // The name of a table's address, formatted once: a bus polls the same registers again
+  // and again. Bounded: past kMaxNames the names are made anew.
+  std::string_view name_of(std::uint64_t key, std::string_view table, std::uint32_t addr);
+  static constexpr std::size_t kMaxNames = 16384;
+  std::unordered_map<std::uint64_t, std::string> names_;
 };
 
 }  // namespace rtu::dissect

@@ -452,6 +452,16 @@ void TrafficStats::count_line_errors(const Record& r, bool glitch) {
 }
 
 void TrafficStats::add_point(const dissect::PointValue& sample) {
+  // The key's top bit is the raw values' own (pointers never set it): the slave goes into the
+  // bits below it, which neither kind of key uses.
+  const std::uint64_t index_key =
+      sample.key == 0 ? 0 : sample.key ^ (std::uint64_t{sample.slave} << 48U);
+  if (index_key != 0) {
+    if (auto hit = point_index_.find(index_key); hit != point_index_.end()) {
+      update_point(hit->second->second, sample);
+      return;
+    }
+  }
   point_key_.assign(sample.point);
   auto key = std::make_pair(sample.slave, point_key_);
   auto it = points_.find(key);
@@ -470,7 +480,11 @@ void TrafficStats::add_point(const dissect::PointValue& sample) {
                        TimeBuckets<PointBucket>(totals_.first_t, kFirstBucketWidth, kPointBuckets)};
     it = points_.emplace(std::move(key), std::move(series)).first;
   }
-  PointSeries& p = it->second;
+  if (index_key != 0) point_index_.emplace(index_key, it);
+  update_point(it->second, sample);
+}
+
+void TrafficStats::update_point(PointSeries& p, const dissect::PointValue& sample) {
   if (p.samples > 0 && sample.value != p.last) ++p.changes;
   ++p.samples;
   p.min = std::min(p.min, sample.value);

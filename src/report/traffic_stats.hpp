@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 
 #include "dissect/device_table.hpp"
 #include "dissect/point_value.hpp"
@@ -258,6 +259,7 @@ class TrafficStats : public RecordSink {
 
  private:
   void add_point(const dissect::PointValue& value);
+  void update_point(PointSeries& series, const dissect::PointValue& value);
   SlaveStats& slave_mut(std::uint8_t address);
   void count_frame(const Record& r);
   void count_request(const Record& r);
@@ -284,6 +286,10 @@ class TrafficStats : public RecordSink {
   std::map<std::pair<std::uint8_t, std::string>, PointSeries> points_;
   std::uint64_t points_overflow_ = 0;
   std::string point_key_;  // reused lookup key
+  // (slave, PointValue::key) → its series in points_, so a sample finds its series without
+  // comparing names. std::map entries never move.
+  using PointEntry = std::map<std::pair<std::uint8_t, std::string>, PointSeries>::iterator;
+  std::unordered_map<std::uint64_t, PointEntry> point_index_;
   LogHistogram master_turnaround_;
 
   // What the previous record was, for turnaround and attribution. A turnaround glitch leaves

@@ -40,6 +40,40 @@ bool scale_to_nanos(DigitAt digit_at, long count, long point, std::uint64_t& out
   return true;
 }
 
+// The shape nearly every capture writes, "1700000000.123456": no sign, no exponent, at most
+// 10 whole and 9 fraction digits, so the value fits int64 ns without rounding. Returns
+// false for anything else, which the general parser below then reads.
+bool parse_plain_seconds(std::string_view text, ParsedTime& out) {
+  constexpr std::size_t kMaxWhole = 10;
+  constexpr std::size_t kMaxFraction = 9;
+  std::size_t i = 0;
+  std::uint64_t whole = 0;
+  while (i < text.size() && is_digit(text[i])) {
+    whole = whole * 10U + static_cast<unsigned>(text[i] - '0');
+    if (++i > kMaxWhole) return false;
+  }
+  const std::size_t whole_digits = i;
+  std::uint64_t fraction = 0;
+  std::size_t fraction_digits = 0;
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    while (i < text.size() && is_digit(text[i])) {
+      fraction = fraction * 10U + static_cast<unsigned>(text[i] - '0');
+      if (++fraction_digits > kMaxFraction) return false;
+      ++i;
+    }
+  }
+  if (i != text.size() || whole_digits + fraction_digits == 0) return false;
+  for (std::size_t d = fraction_digits; d < kMaxFraction; ++d) fraction *= 10U;
+  // Ten whole digits can pass int64 ns (9223372036.854775808): the general parser says so.
+  const std::uint64_t ns = whole * 1'000'000'000U + fraction;
+  if (ns > kMaxMagnitude) return false;
+  out.status = ParsedTime::Status::kOk;
+  out.ns = static_cast<Nanos>(ns);
+  out.decimals = static_cast<int>(fraction_digits);
+  return true;
+}
+
 }  // namespace
 
 Nanos step_for_decimals(int decimals) {
@@ -50,6 +84,7 @@ Nanos step_for_decimals(int decimals) {
 
 ParsedTime parse_decimal_seconds(std::string_view text, bool allow_exponent) {
   ParsedTime result;
+  if (parse_plain_seconds(text, result)) return result;
   std::size_t i = 0;
   bool negative = false;
   if (i < text.size() && (text[i] == '-' || text[i] == '+')) negative = text[i++] == '-';

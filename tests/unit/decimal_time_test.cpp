@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <string>
+#include <vector>
+
 namespace rtu {
 namespace {
 
@@ -31,6 +35,39 @@ TEST(DecimalTime, LargestTimesFitAndLargerOnesAreOutOfRange) {
             ParsedTime::Status::kOutOfRange);  // rounds up past the maximum
   EXPECT_EQ(parse_decimal_seconds("1e10", true).status, ParsedTime::Status::kOutOfRange);
   EXPECT_EQ(seconds_ok("0000000000000000000000000001.5", false), 1'500'000'000);
+}
+
+// Plain times ("1700000000.123456") take a fast path; "e0" sends the same text through the
+// general digit-by-digit parser, which must agree on every value and decimal count.
+TEST(DecimalTime, PlainTimesEqualTheGeneralParser) {
+  std::uint64_t state = 12345;
+  auto next = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return state >> 33U;
+  };
+  std::vector<std::string> texts = {"0",
+                                    "0.0",
+                                    "5.",
+                                    ".5",
+                                    "9999999999.999999999",
+                                    "9223372035.999999999",
+                                    "9223372036.854775807",
+                                    "0000000001.000000001"};
+  for (int i = 0; i < 20000; ++i) {
+    std::string whole = std::to_string(next() % 10'000'000'000ULL).substr(0, 1 + next() % 10);
+    std::string text = next() % 8 == 0 ? "" : whole;
+    const auto decimals = static_cast<std::size_t>(next() % 10);
+    if (decimals > 0 || next() % 4 == 0) text += '.';
+    for (std::size_t d = 0; d < decimals; ++d) text += static_cast<char>('0' + next() % 10);
+    texts.push_back(text);
+  }
+  for (const std::string& text : texts) {
+    const ParsedTime plain = parse_decimal_seconds(text, false);
+    const ParsedTime general = parse_decimal_seconds(text + "e0", true);
+    EXPECT_EQ(plain.status, general.status) << text;
+    EXPECT_EQ(plain.ns, general.ns) << text;
+    EXPECT_EQ(plain.decimals, general.decimals) << text;
+  }
 }
 
 TEST(DecimalTime, SyntaxErrors) {

@@ -129,9 +129,14 @@ bool PcapImporter::fetch() {
     ended_ = true;
     return false;
   }
-  if (!declared_) declared_ = parse_line_description(packet_.interface_description);
-  if (!resolution_) resolution_ = parse_resolution_description(packet_.interface_description);
-  if (!timeout_) timeout_ = parse_timeout_description(packet_.interface_description);
+  const auto interface = std::make_pair(packet_.section, packet_.interface_id);
+  if (std::find(described_.begin(), described_.end(), interface) == described_.end()) {
+    described_.push_back(interface);
+    const std::string_view description = packet_.interface_description;
+    if (!declared_) declared_ = parse_line_description(description);
+    if (!resolution_) resolution_ = parse_resolution_description(description);
+    if (!timeout_) timeout_ = parse_timeout_description(description);
+  }
   if (packet_.original_length > packet_.data.size()) {
     if (cut_.count == 0) {
       cut_.first_offset = packet_.offset;

@@ -20,6 +20,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "capture/pcap_reader.hpp"
@@ -84,6 +85,9 @@ class PcapImporter {
   std::optional<LineSettings> declared_;
   std::optional<Nanos> resolution_;
   std::optional<Nanos> timeout_;
+  // The interfaces (section, id) whose descriptions were read for the above: each is read
+  // once, not once per packet.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> described_;
   CutRecords cut_;
   std::optional<InputError> deferred_;
   std::uint8_t pending_errors_ = 0;  // from events without bytes

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# Side-by-side speed of rtuscope and tshark on the same simulated frames.
+#
+#   tools/bench/compare.sh [FRAMES] [WORK_DIR]
+#
+# The simulator writes FRAMES frames (default 5,000,000) of 19200-baud polling traffic twice:
+# one byte per line (a logic analyser's view) and in USB adapter reads. From the USB capture
+# rtuscope writes its native pcapng (raw reads of 1-62 bytes plus the decoded frames, as
+# `export --raw` and live recordings hold them) and a classic pcap of LINKTYPE 252 frames for
+# tshark. Then each command runs once, timed, and a Markdown table gives wall time, frames
+# per second, the ratio to tshark and peak RSS. tshark runs with its default preferences (its
+# fastest: CRC checking off). Use a Release build (cmake --preset release).
+# The captures stay in WORK_DIR (default: a new temporary folder, removed at the end).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+frames=${1:-5000000}
+work=${2:-}
+rtuscope=${RTUSCOPE:-build/rtuscope}
+rtusim=${RTUSIM:-build/rtusim}
+for tool in "$rtuscope" "$rtusim"; do
+  [[ -x $tool ]] || { echo "compare.sh: $tool not built (cmake --preset release && cmake --build build)" >&2; exit 2; }
+done
+command -v tshark >/dev/null || { echo "compare.sh: tshark not installed" >&2; exit 2; }
+if [[ -z $work ]]; then
+  work=$(mktemp -d "${TMPDIR:-/tmp}/rtuscope-bench.XXXXXX")
+  trap 'rm -rf "$work"' EXIT
+fi
+mkdir -p "$work"
+
+transactions=$((frames / 2))
+echo "Making captures of $frames frames in $work ..." >&2
+"$rtusim" --transactions "$transactions" --baud 19200 --chunking perbyte --seed 1 \
+  --out "$work/perbyte.hex" >/dev/null
+"$rtusim" --transactions "$transactions" --baud 19200 --chunking usb --seed 1 \
+  --out "$work/usb.hex" >/dev/null
+"$rtuscope" export "$work/usb.hex" --raw -o "$work/native.pcapng" -q 2>/dev/null
+"$rtuscope" export "$work/usb.hex" -o "$work/frames.pcap" -q 2>/dev/null
+# Every capture holds the same frames; the report says how many.
+count=$("$rtuscope" report "$work/usb.hex" --format json --no-identify -q |
+  python3 -c 'import json,sys; print(json.load(sys.stdin)["totals"]["frames"])')
+
+# run LABEL INPUT COMMAND...: prints "label|input|wall|rss_kb".
+run() {
+  local label=$1 input=$2
+  shift 2
+  /usr/bin/time -o "$work/time.txt" -f "%e %M" "$@" >/dev/null 2>"$work/stderr.txt" || {
+    echo "compare.sh: $* failed: $(tail -3 "$work/stderr.txt")" >&2
+    exit 1
+  }
+  echo "$label|$input|$(tail -1 "$work/time.txt")"
+}
+
+results=()
+results+=("$(run "tshark -T fields (unit id, function code)" "frames.pcap" \
+  tshark -n -r "$work/frames.pcap" -T fields -e frame.number -e mbrtu.unit_id \
+  -e modbus.func_code)")
+for input in native.pcapng perbyte.hex usb.hex; do
+  results+=("$(run "rtuscope report --format json" "$input" \
+    "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
+  results+=("$(run "rtuscope report --no-identify" "$input" \
+    "$rtuscope" report "$work/$input" --format json --no-identify -o /dev/null -q)")
+  results+=("$(run "rtuscope decode --format jsonl" "$input" \
+    "$rtuscope" decode "$work/$input" --format jsonl -o /dev/null -q)")
+  results+=("$(run "rtuscope export" "$input" \
+    "$rtuscope" export "$work/$input" -o "$work/out.pcapng" -q)")
+done
+
+tshark_wall=$(cut -d'|' -f3 <<<"${results[0]}" | cut -d' ' -f1)
+size_of() { du -m "$work/$1" | cut -f1; }
+echo
+echo "$count frames; captures: per-byte hex $(size_of perbyte.hex) MB, USB hex $(size_of usb.hex) MB," \
+  "native pcapng $(size_of native.pcapng) MB, pcap 252 $(size_of frames.pcap) MB; $(nproc) cores"
+echo
+echo "| run | input | wall s | frames/s | × tshark | peak RSS MB |"
+echo "|---|---|---|---|---|---|"
+for r in "${results[@]}"; do
+  IFS='|' read -r label input stats <<<"$r"
+  read -r wall rss <<<"$stats"
+  python3 - "$label" "$input" "$wall" "$rss" "$count" "$tshark_wall" <<'EOF'
+import sys
+label, input_, wall, rss, count, tshark = sys.argv[1:]
+wall, rss, count, tshark = float(wall), int(rss), int(count), float(tshark)
+rate = count / wall if wall > 0 else float("inf")
+ratio = tshark / wall if wall > 0 else float("inf")
+print(f"| {label} | {input_} | {wall:.2f} | {rate / 1e6:.2f} M | {ratio:.1f} | {rss / 1024:.0f} |")
+EOF
+done

@@ -1,5 +1,6 @@
 #include "dissect/device_stage.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -9,7 +10,13 @@ namespace {
 // A value to the point's decimals, as the decode output shows it (point_format.hpp); this
 // also drops binary noise such as 22432.000000000004 from the exports.
 double to_decimals(double value, int decimals) {
-  const double scale = std::pow(10.0, decimals);
+  // Exact powers of ten up to 10^22 (the same doubles std::pow gives), without a call per value.
+  static constexpr std::array<double, 23> kPowersOfTen = {
+      1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const double scale = decimals >= 0 && decimals < static_cast<int>(kPowersOfTen.size())
+                           ? kPowersOfTen[static_cast<std::size_t>(decimals)]
+                           : std::pow(10.0, decimals);
   const double rounded = std::round(value * scale) / scale;
   return std::isfinite(rounded) ? rounded : value;
 }

@@ -1,29 +1,44 @@
 #include "report/log_histogram.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 namespace rtu {
 
 namespace {
-const double kLogGamma = std::log(LogHistogram::kGamma);
+
+Nanos lower_bound_formula(std::size_t i) {
+  return static_cast<Nanos>(std::ceil(static_cast<double>(LogHistogram::kFloor) *
+                                      std::pow(LogHistogram::kGamma, static_cast<double>(i - 1))));
 }
+
+// Every bucket's lower bound, computed once: adding a value is then a binary search, with no
+// logarithm or power per value. Entry 0 (everything below kFloor) is never searched.
+const std::array<Nanos, LogHistogram::kBuckets>& lower_bounds() {
+  static const auto table = [] {
+    std::array<Nanos, LogHistogram::kBuckets> t{};
+    t[0] = std::numeric_limits<Nanos>::min();
+    for (std::size_t i = 1; i < t.size(); ++i) t[i] = lower_bound_formula(i);
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
 
 std::size_t LogHistogram::bucket_of(Nanos value) {
   if (value < kFloor) return 0;
-  const double ratio = static_cast<double>(value) / static_cast<double>(kFloor);
-  auto i = static_cast<std::size_t>(std::floor(std::log(ratio) / kLogGamma)) + 1;
-  // Guard the floating-point edge: the value must not lie below the bucket's lower bound.
-  while (i > 1 && value < bucket_lower(i)) --i;
-  while (i + 1 < kBuckets && value >= bucket_lower(i + 1)) ++i;
-  return std::min(i, kBuckets - 1);
+  // The last bucket whose lower bound is at or below the value (bucket 1 starts at kFloor).
+  const auto& bounds = lower_bounds();
+  const auto above = std::upper_bound(bounds.begin() + 1, bounds.end(), value);
+  return static_cast<std::size_t>(above - bounds.begin()) - 1;
 }
 
 Nanos LogHistogram::bucket_lower(std::size_t i) {
-  if (i == 0) return std::numeric_limits<Nanos>::min();
-  return static_cast<Nanos>(
-      std::ceil(static_cast<double>(kFloor) * std::pow(kGamma, static_cast<double>(i - 1))));
+  if (i < kBuckets) return lower_bounds()[i];
+  return lower_bound_formula(i);
 }
 
 Nanos LogHistogram::bucket_upper(std::size_t i) {

@@ -72,6 +72,43 @@ TEST(LogHistogram, QuantilesMatchBruteForceOnRandomData) {
   }
 }
 
+// A value lands in the bucket whose bounds hold it, at every edge: each bucket's lower bound
+// and the nanosecond below it, over the whole range, and random values.
+TEST(LogHistogram, EveryValueLandsInTheBucketThatHoldsIt) {
+  const Nanos below_floor = LogHistogram::kFloor - 1;
+  const Nanos top = 400 * 24 * 3600 * kNanosPerSecond;  // in the last bucket (from ~1 day)
+  const Nanos range = 12 * 3600 * kNanosPerSecond;      // below it
+  auto bounds_of = [&](Nanos v) {
+    LogHistogram h;
+    for (const Nanos x : {below_floor, v, top}) h.add(x);
+    std::vector<std::pair<Nanos, Nanos>> buckets;
+    h.for_each_bucket([&](Nanos lo, Nanos hi, std::uint64_t) { buckets.emplace_back(lo, hi); });
+    return buckets;
+  };
+  std::vector<Nanos> values;
+  Nanos edge = LogHistogram::kFloor;
+  while (edge < range) {
+    values.push_back(edge);
+    values.push_back(edge - 1);
+    const auto buckets = bounds_of(edge);
+    const auto it = std::find_if(buckets.begin(), buckets.end(), [&](const auto& b) {
+      return b.first <= edge && edge <= b.second;
+    });
+    ASSERT_NE(it, buckets.end()) << edge;
+    edge = it->second + 1;  // the next bucket's lower bound
+  }
+  std::mt19937_64 rng(99);
+  std::uniform_int_distribution<Nanos> any(LogHistogram::kFloor, range);
+  for (int i = 0; i < 2000; ++i) values.push_back(any(rng));
+  for (const Nanos v : values) {
+    if (v < LogHistogram::kFloor) continue;
+    const auto buckets = bounds_of(v);
+    ASSERT_EQ(buckets.size(), 3U) << v;  // below the floor, v's own, the top
+    EXPECT_LE(buckets[1].first, v);
+    EXPECT_GE(buckets[1].second, v);
+  }
+}
+
 TEST(LogHistogram, MergeEqualsAddingEverything) {
   std::mt19937_64 rng(7);
   std::uniform_int_distribution<Nanos> d(-5 * kNanosPerMicro, 900 * kMs);

@@ -6,6 +6,7 @@
 
 #include "capture/capture_paths.hpp"
 #include "capture/open_capture.hpp"
+#include "capture/read_ahead.hpp"
 #include "core/input_error.hpp"
 #include "framing/timing_estimator.hpp"
 #include "pipeline/line_warnings.hpp"
@@ -157,7 +158,8 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
   pipeline_options.per_byte_timing = survey.per_byte_exact;
   DecodePipeline pipeline(pipeline_options, sink);
   pipeline.start(info);
-  auto reader = open([](std::string_view) {});
+  // The reader parses on the second core while this one decodes (same items, same order).
+  auto reader = std::make_unique<ReadAhead>(open([](std::string_view) {}));
   Feed feed(pipeline, options, survey.use_chunks, info.line.char_time());
   PassProgress decode_progress(*reader, ReplayProgress::Pass::kDecode, options);
   try {

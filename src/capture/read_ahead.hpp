@@ -1,0 +1,75 @@
+#pragma once
+// Reads a capture on a second thread, a batch ahead of the decoding, so that the reader's
+// parsing (most of what a text capture costs) runs on one core while framing, pairing and
+// the statistics run on the other. The items come out exactly as the reader gives them, in
+// the same order and with the same contents, so everything downstream sees what a direct
+// read would give: the output of a run never depends on the threads.
+//
+// Memory is bounded: at most kBatches batches of at most kBatchItems items or kBatchBytes
+// bytes exist at a time.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "capture/capture_reader.hpp"
+
+namespace rtu {
+
+class ReadAhead final : public CaptureReader {
+ public:
+  static constexpr std::size_t kBatches = 3;
+  static constexpr std::size_t kBatchItems = 4096;
+  static constexpr std::size_t kBatchBytes = 256 * 1024;
+
+  // Starts reading `reader` at once. Only read(), name(), bytes_read() and input_size() may
+  // be asked of this object: the reader's other answers belong to the survey pass.
+  explicit ReadAhead(std::unique_ptr<CaptureReader> reader);
+  // Stops the reading thread (reading need not have reached the end) and waits for it.
+  ~ReadAhead() override;
+  ReadAhead(const ReadAhead&) = delete;
+  ReadAhead& operator=(const ReadAhead&) = delete;
+  ReadAhead(ReadAhead&&) = delete;
+  ReadAhead& operator=(ReadAhead&&) = delete;
+
+  // As CaptureReader::read: the reader's exception is thrown here once every item read
+  // before it was delivered, and after it read() returns false.
+  bool read(CaptureConsumer& to) override;
+
+  [[nodiscard]] std::string name() const override { return name_; }
+  // As far as the items delivered so far reach (the reader itself is a batch further on).
+  [[nodiscard]] std::uint64_t bytes_read() const override { return bytes_read_; }
+  [[nodiscard]] std::uint64_t input_size() const override { return input_size_; }
+
+ private:
+  struct Item;
+  struct Batch;
+  class Collector;
+
+  void run();  // the reading thread
+  std::unique_ptr<Batch> next_free();
+  void deliver(const Item& item, const Batch& batch, CaptureConsumer& to);
+
+  std::unique_ptr<CaptureReader> reader_;
+  std::string name_;
+  std::uint64_t input_size_ = 0;
+  std::uint64_t bytes_read_ = 0;
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::unique_ptr<Batch>> ready_;  // filled, in file order
+  std::vector<std::unique_ptr<Batch>> free_;
+  bool stopping_ = false;
+
+  std::unique_ptr<Batch> current_;  // being delivered (reading thread never touches it)
+  std::size_t next_item_ = 0;
+  bool ended_ = false;
+  std::thread thread_;  // last: started once everything above exists
+};
+
+}  // namespace rtu

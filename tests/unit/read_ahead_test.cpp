@@ -1,0 +1,121 @@
+// ReadAhead delivers exactly what its reader delivers, in order, across batch boundaries,
+// up to and including the reader's error; and it can be dropped part-way.
+#include "capture/read_ahead.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "capture/open_capture.hpp"
+#include "core/input_error.hpp"
+
+namespace rtu {
+namespace {
+
+// Writes every call it gets as one line of text.
+class Transcript final : public CaptureConsumer {
+ public:
+  void on_chunk(const Chunk& c) override {
+    lines.push_back(fmt::format("chunk t={} first={} port={} origin={} bytes={:02x} errors={:02x}",
+                                c.t_end, c.t_first_start, c.port, c.origin, fmt::join(c.bytes, ""),
+                                fmt::join(c.errors, "")));
+  }
+  void on_frame(std::span<const std::uint8_t> adu, Nanos t, std::uint64_t origin) override {
+    lines.push_back(fmt::format("frame t={} origin={} {:02x}", t, origin, fmt::join(adu, "")));
+  }
+  void on_noise(std::span<const std::uint8_t> bytes, Nanos t, std::uint64_t origin) override {
+    lines.push_back(fmt::format("noise t={} origin={} {:02x}", t, origin, fmt::join(bytes, "")));
+  }
+  void on_end(Nanos t) override { lines.push_back(fmt::format("end t={}", t)); }
+  std::vector<std::string> lines;
+};
+
+// Reads `reader` to its end; an error becomes the transcript's last line.
+template <typename Reader>
+std::vector<std::string> transcript_of(Reader& reader) {
+  Transcript t;
+  try {
+    while (reader.read(t)) {
+    }
+    if (reader.read(t)) t.lines.emplace_back("read after the end returned true");
+  } catch (const InputError& e) {
+    t.lines.push_back(std::string("error: ") + e.what());
+    if (reader.read(t)) t.lines.emplace_back("read after the error returned true");
+  }
+  return t.lines;
+}
+
+void expect_same_items(const std::string& path) {
+  SCOPED_TRACE(path);
+  auto direct = open_capture(path, [](std::string_view) {});
+  const auto expected = transcript_of(*direct);
+  ReadAhead ahead(open_capture(path, [](std::string_view) {}));
+  EXPECT_EQ(ahead.name(), path);
+  const auto got = transcript_of(ahead);
+  EXPECT_EQ(got, expected);
+  EXPECT_FALSE(expected.empty());
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          fmt::format("rtuscope-read-ahead-{}-{}", ::getpid(), name))
+      .string();
+}
+
+// Per-byte lines, several batches' worth, ending in a line that is not a capture line.
+std::string write_long_capture(bool damaged) {
+  const std::string path = temp_path(damaged ? "damaged.hex" : "long.hex");
+  std::ofstream out(path);
+  out << "# baud=9600 parity=E stop=1\n";
+  const std::size_t lines = 3 * ReadAhead::kBatchItems + 17;
+  for (std::size_t i = 0; i < lines; ++i) {
+    out << fmt::format("{}.{:06d} {:02X}\n", i / 1000, (i % 1000) * 1000, i % 251);
+  }
+  if (damaged) out << "not a capture line\n";
+  return path;
+}
+
+TEST(ReadAhead, DeliversWhatTheReaderDeliversForEveryBundledCapture) {
+  const std::filesystem::path dir = RTUSCOPE_SOURCE_DIR "/captures";
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const auto ext = entry.path().extension();
+    const auto name = entry.path().filename().string();
+    if ((ext != ".hex" && ext != ".csv") || name.find(".expected.") != std::string::npos) continue;
+    expect_same_items(entry.path().string());
+    ++files;
+  }
+  EXPECT_GE(files, 10U);
+}
+
+TEST(ReadAhead, CrossesBatchesAndThrowsTheReadersErrorAfterEverythingBeforeIt) {
+  for (const bool damaged : {false, true}) {
+    const std::string path = write_long_capture(damaged);
+    expect_same_items(path);
+    ReadAhead ahead(open_capture(path, [](std::string_view) {}));
+    const auto lines = transcript_of(ahead);
+    EXPECT_EQ(lines.back().rfind("error: ", 0) == 0, damaged) << lines.back();
+    EXPECT_GT(ahead.bytes_read(), 0U);
+    EXPECT_EQ(ahead.input_size(), std::filesystem::file_size(path));
+    std::remove(path.c_str());
+  }
+}
+
+TEST(ReadAhead, CanBeDroppedBeforeTheEnd) {
+  const std::string path = write_long_capture(false);
+  for (const int items : {0, 1, 5000}) {
+    ReadAhead ahead(open_capture(path, [](std::string_view) {}));
+    Transcript t;
+    for (int i = 0; i < items; ++i) ASSERT_TRUE(ahead.read(t));
+    EXPECT_EQ(t.lines.size(), static_cast<std::size_t>(items));
+  }  // the destructor stops the reading thread, which may be waiting for a free batch
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace rtu

@@ -138,6 +138,13 @@ bool reads_as_request(const Record& r) {
          (is_public_function(function) || is_user_defined_function(function));
 }
 
+// Every field of a RequestKind in one number (8 + 8 + 1 + 16 + 16 bits): equal kinds, equal
+// numbers.
+std::uint64_t packed(const RequestKind& k) {
+  return (std::uint64_t{k.slave} << 41U) | (std::uint64_t{k.function} << 33U) |
+         (std::uint64_t{k.has_range} << 32U) | (std::uint64_t{k.addr} << 16U) | k.qty;
+}
+
 bool is_glitch(const Record& r) {
   if (r.size == 0 || r.size > 2) return false;
   return std::all_of(r.bytes().begin(), r.bytes().end(),
@@ -145,6 +152,11 @@ bool is_glitch(const Record& r) {
 }
 
 }  // namespace
+
+std::map<RequestKind, RequestKindStats>::iterator TrafficStats::find_kind(const RequestKind& kind) {
+  const auto hit = kind_index_.find(packed(kind));
+  return hit == kind_index_.end() ? kinds_.end() : hit->second;
+}
 
 void TrafficStats::on_record(Record& r) {
   ++totals_.records;
@@ -264,13 +276,14 @@ void TrafficStats::count_request(const Record& r) {
   }
 
   const RequestKind kind = kind_of(r);
-  auto it = kinds_.find(kind);
+  auto it = find_kind(kind);
   if (it == kinds_.end()) {
     if (kinds_.size() >= kMaxRequestKinds) {
       ++kinds_overflow_;
       return;
     }
     it = kinds_.emplace(kind, RequestKindStats{}).first;
+    kind_index_.emplace(packed(kind), it);
     it->second.first_t = r.t_start;
   } else {
     it->second.period.add(r.t_start - it->second.last_t);
@@ -357,7 +370,7 @@ void TrafficStats::count_response(const Record& r) {
   if (r.issues.has(IssueId::kT15)) ++s.t15_responses;
   if (r.issues.has(IssueId::kT35)) ++s.t35_responses;
   if (r.request != nullptr && !wrong_slave) {
-    auto it = kinds_.find(kind_of(*r.request));
+    auto it = find_kind(kind_of(*r.request));
     if (it != kinds_.end()) {
       ++it->second.responses;
       if (code) {

@@ -281,6 +281,10 @@ class TrafficStats : public RecordSink {
   std::array<std::unique_ptr<SlaveStats>, 256> slaves_{};
   std::map<RequestKind, RequestKindStats> kinds_;
   std::uint64_t kinds_overflow_ = 0;
+  // RequestKind packed into 64 bits → its entry in kinds_: found by hashing, not by a walk
+  // down the tree at every request and response. std::map entries never move.
+  std::unordered_map<std::uint64_t, std::map<RequestKind, RequestKindStats>::iterator> kind_index_;
+  std::map<RequestKind, RequestKindStats>::iterator find_kind(const RequestKind& kind);
   TimeBuckets<TrafficBucket> timeline_{0, kFirstBucketWidth, kTimelineBuckets};
   bool timeline_started_ = false;
   std::map<std::pair<std::uint8_t, std::string>, PointSeries> points_;

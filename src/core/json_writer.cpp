@@ -1,5 +1,6 @@
 #include "core/json_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rtu {
@@ -48,9 +49,27 @@ void JsonWriter::key(std::string_view name) {
   after_key_ = true;
 }
 
+namespace {
+
+bool needs_escape(char c) {
+  return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20;
+}
+
+void append_integer(fmt::memory_buffer& out, const fmt::format_int& digits) {
+  out.append(digits.data(), digits.data() + digits.size());
+}
+
+}  // namespace
+
 void JsonWriter::value(std::string_view text) {
   separate();
   out_.push_back('"');
+  // Names and units rarely hold anything to escape: those are copied whole.
+  if (std::none_of(text.begin(), text.end(), needs_escape)) {
+    out_.append(text);
+    out_.push_back('"');
+    return;
+  }
   for (const char c : text) {
     switch (c) {
       case '"': out_.append(std::string_view("\\\"")); break;
@@ -60,7 +79,7 @@ void JsonWriter::value(std::string_view text) {
       case '\t': out_.append(std::string_view("\\t")); break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
-          fmt::format_to(std::back_inserter(out_), "\\u{:04x}", static_cast<unsigned>(c));
+          fmt::format_to(fmt::appender(out_), "\\u{:04x}", static_cast<unsigned>(c));
         } else {
           out_.push_back(c);
         }
@@ -76,12 +95,12 @@ void JsonWriter::value(bool b) {
 
 void JsonWriter::value(std::int64_t n) {
   separate();
-  fmt::format_to(std::back_inserter(out_), "{}", n);
+  append_integer(out_, fmt::format_int(n));
 }
 
 void JsonWriter::value(std::uint64_t n) {
   separate();
-  fmt::format_to(std::back_inserter(out_), "{}", n);
+  append_integer(out_, fmt::format_int(n));
 }
 
 void JsonWriter::value_fixed(double x, int decimals) {
@@ -90,7 +109,7 @@ void JsonWriter::value_fixed(double x, int decimals) {
     return;
   }
   separate();
-  fmt::format_to(std::back_inserter(out_), "{:.{}f}", x, decimals);
+  fmt::format_to(fmt::appender(out_), "{:.{}f}", x, decimals);
 }
 
 void JsonWriter::value_double(double x) {
@@ -99,7 +118,7 @@ void JsonWriter::value_double(double x) {
     return;
   }
   separate();
-  fmt::format_to(std::back_inserter(out_), "{}", x);
+  fmt::format_to(fmt::appender(out_), "{}", x);
 }
 
 void JsonWriter::null() {
@@ -114,13 +133,17 @@ void JsonWriter::value_raw(std::string_view json_text) {
 
 void JsonWriter::hex(std::span<const std::uint8_t> bytes) {
   separate();
-  out_.push_back('"');
   constexpr std::string_view kDigits = "0123456789abcdef";
+  // Grown once, then written in place.
+  const std::size_t at = out_.size();
+  out_.resize(at + 2 + 2 * bytes.size());
+  char* p = out_.data() + at;
+  *p++ = '"';
   for (const std::uint8_t b : bytes) {
-    out_.push_back(kDigits[b >> 4U]);
-    out_.push_back(kDigits[b & 0xFU]);
+    *p++ = kDigits[b >> 4U];
+    *p++ = kDigits[b & 0xFU];
   }
-  out_.push_back('"');
+  *p = '"';
 }
 
 }  // namespace rtu

@@ -22,15 +22,22 @@ void append_fixed(fmt::memory_buffer& out, Nanos value, Nanos unit, int decimals
   if (whole < 0 && frac != 0) {
     // e.g. -0.25 s: floor gives whole=-1, frac=0.75; print as -0.25 instead.
     const Nanos neg_rest = unit - rest;
-    fmt::format_to(std::back_inserter(out), "-{}.{:0{}d}", -(whole + 1), neg_rest / scale,
-                   decimals);
+    fmt::format_to(fmt::appender(out), "-{}.{:0{}d}", -(whole + 1), neg_rest / scale, decimals);
     return;
   }
-  if (decimals == 0) {
-    fmt::format_to(std::back_inserter(out), "{}", whole);
-  } else {
-    fmt::format_to(std::back_inserter(out), "{}.{:0{}d}", whole, frac, decimals);
+  // Every record's time goes through here: digits are written directly, not through a
+  // format string.
+  const fmt::format_int whole_digits(whole);
+  out.append(whole_digits.data(), whole_digits.data() + whole_digits.size());
+  if (decimals == 0) return;
+  std::array<char, 10> text{};
+  text[0] = '.';
+  Nanos rest_digits = frac;  // < 10^decimals
+  for (int i = decimals; i >= 1; --i) {
+    text[static_cast<std::size_t>(i)] = static_cast<char>('0' + rest_digits % 10);
+    rest_digits /= 10;
   }
+  out.append(text.data(), text.data() + decimals + 1);
 }
 
 }  // namespace
@@ -54,14 +61,14 @@ void append_utc_date(fmt::memory_buffer& out, Nanos t) {
   const Nanos day = doy - (153 * mp + 2) / 5 + 1;
   const Nanos month = mp < 10 ? mp + 3 : mp - 9;
   const Nanos year = yoe + era * 400 + (month <= 2 ? 1 : 0);
-  fmt::format_to(std::back_inserter(out), "{:04}-{:02}-{:02}", year, month, day);
+  fmt::format_to(fmt::appender(out), "{:04}-{:02}-{:02}", year, month, day);
 }
 
 void append_utc_time_of_day(fmt::memory_buffer& out, Nanos t, int decimals) {
   constexpr Nanos kDay = 86'400 * kNanosPerSecond;
   const Nanos in_day = t - utc_day(t) * kDay;
   const Nanos seconds = in_day / kNanosPerSecond;
-  fmt::format_to(std::back_inserter(out), "{:02}:{:02}:", seconds / 3600, seconds / 60 % 60);
+  fmt::format_to(fmt::appender(out), "{:02}:{:02}:", seconds / 3600, seconds / 60 % 60);
   fmt::memory_buffer s;
   append_seconds(s, in_day % (60 * kNanosPerSecond), decimals);
   if (in_day % (60 * kNanosPerSecond) < 10 * kNanosPerSecond) out.push_back('0');

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
 namespace rtu {
@@ -24,6 +25,29 @@ TEST(UtcTime, DatesAndTimesOfDay) {
   EXPECT_EQ(utc_text(951'782'400 * kNanosPerSecond), "2000-02-29 00:00:00.000000");
   EXPECT_EQ(utc_day(86'400 * kNanosPerSecond - 1), 0);
   EXPECT_EQ(utc_day(-1), -1);
+}
+
+std::string seconds_text(Nanos t, int decimals) {
+  fmt::memory_buffer out;
+  append_seconds(out, t, decimals);
+  return {out.data(), out.size()};
+}
+
+TEST(SecondsText, DigitsAsWrittenWithFloorRounding) {
+  EXPECT_EQ(seconds_text(1'700'000'000'123'456'789, 6), "1700000000.123456");
+  EXPECT_EQ(seconds_text(1'700'000'000'123'456'789, 9), "1700000000.123456789");
+  EXPECT_EQ(seconds_text(1'700'000'000'123'456'789, 0), "1700000000");
+  EXPECT_EQ(seconds_text(0, 9), "0.000000000");
+  EXPECT_EQ(seconds_text(7, 9), "0.000000007");
+  EXPECT_EQ(seconds_text(1'000'000'000, 1), "1.0");
+  EXPECT_EQ(seconds_text(-250'000'000, 3), "-0.250");
+  EXPECT_EQ(seconds_text(-1, 9), "-0.000000001");
+  EXPECT_EQ(seconds_text(-1'500'000'000, 1), "-1.5");
+  EXPECT_EQ(seconds_text(-2'000'000'000, 3), "-2.000");
+  EXPECT_EQ(seconds_text(std::numeric_limits<Nanos>::max(), 9), "9223372036.854775807");
+  EXPECT_EQ(seconds_text(std::numeric_limits<Nanos>::min(), 9), "-9223372036.854775808");
+  EXPECT_EQ(seconds_text(123'456'789'012, 20), "123.456789012");  // at most 9 decimals
+  EXPECT_EQ(seconds_text(123'456'789'012, -1), "123");
 }
 
 }  // namespace

@@ -53,15 +53,18 @@ class FinishWatch {
 void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
                       const LiveSessionHooks& hooks) {
   OutputStream out(setup.output);
-  const auto writer = make_record_writer(setup.format, out, true);
+  const auto writer =
+      setup.frames_sink != nullptr ? nullptr : make_record_writer(setup.format, out, true);
   std::unique_ptr<PcapngRecorder> recorder;
   if (!setup.record_path.empty()) {
     recorder = std::make_unique<PcapngRecorder>(setup.record_path, setup.rotation);
   }
+  ChunkRecorder* const chunk_recorder =
+      setup.chunk_recorder != nullptr ? setup.chunk_recorder : recorder.get();
 
   // Frames go to the screen (or a file) and, when reported on, to the report's statistics.
   RecordFanout sinks;
-  sinks.add(*writer);
+  sinks.add(writer ? *writer : *setup.frames_sink);
   std::optional<RunReport> report;
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!setup.report_path.empty()) report_out.emplace(setup.report_path);
@@ -75,9 +78,14 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   boost::asio::io_context io;
   SystemClock clock;
   const std::string& prefix = setup.prefix;
-  LiveCapture capture(
-      io, clock, setup.capture, stage, recorder.get(),
-      [&prefix](const std::string& m) { fmt::print(stderr, "{}: {}\n", prefix, m); });
+  LiveCapture capture(io, clock, setup.capture, stage, chunk_recorder,
+                      [&prefix, &hooks](const std::string& m) {
+                        if (hooks.on_note) {
+                          hooks.on_note(m);
+                        } else {
+                          fmt::print(stderr, "{}: {}\n", prefix, m);
+                        }
+                      });
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int) {
     if (ec) return;

@@ -5,6 +5,7 @@
 // bus it listens to, and ends when that traffic is over).
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "app/device_options.hpp"
 #include "pipeline/live_capture.hpp"
@@ -28,6 +29,9 @@ struct LiveSessionSetup {
   RecordSink* frames_sink = nullptr;
   // Set: every read goes to this recorder instead of a file at record_path. Not owned.
   ChunkRecorder* chunk_recorder = nullptr;
+  // Also get every record, after the frames are written, with the device points' values
+  // (e.g. the MQTT feed). Not owned.
+  std::vector<RecordSink*> extra_sinks;
 };
 
 // What a command adds to the session. Every hook may be left empty.
@@ -36,6 +40,9 @@ struct LiveSessionHooks {
   std::function<void(const LiveCapture& capture)> on_listening;
   // Asked every 20 ms while it runs: true ends the session (as a stop would).
   std::function<bool()> finished;
+  // Called every 20 ms while it runs, on the capture's thread (e.g. to hand queued
+  // messages on).
+  std::function<void()> periodic;
   // A one-line message for the user (a port note, an unplugged adapter). Empty: printed on
   // stderr after the prefix.
   std::function<void(const std::string& message)> on_note;

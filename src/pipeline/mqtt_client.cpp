@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <mosquitto.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -85,6 +86,7 @@ MqttClient::MqttClient(MqttClientOptions options) : options_(std::move(options))
   if (mosq_ == nullptr) throw InputError("--mqtt: cannot create an MQTT client");
   const auto check = [this](int rc, std::string_view what) {
     if (rc != MOSQ_ERR_SUCCESS) {
+      mosquitto_destroy(mosq_);  // the destructor does not run for a throwing constructor
       throw InputError(fmt::format("--mqtt: {}: {}", what, mosquitto_strerror(rc)));
     }
   };
@@ -106,16 +108,34 @@ MqttClient::MqttClient(MqttClientOptions options) : options_(std::move(options))
   mosquitto_publish_callback_set(mosq_, &MqttClient::on_publish);
   retained_[options_.status_topic] = {options_.status_topic, "online", true};
 
-  const int rc = mosquitto_connect_async(mosq_, options_.url.host.c_str(), options_.url.port,
-                                         kKeepaliveSeconds);
-  if (rc != MOSQ_ERR_SUCCESS) {
-    // The network loop keeps trying: a broker started later is found.
-    events_.push_back(fmt::format(
-        "mqtt: cannot reach {}:{} yet ({}); retrying with back-off", options_.url.host,
-        options_.url.port, rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc)));
+  starter_ = std::thread([this] { start_connecting(); });
+}
+
+void MqttClient::start_connecting() {
+  std::chrono::seconds delay(1);
+  for (;;) {
+    const int rc = mosquitto_connect_async(mosq_, options_.url.host.c_str(), options_.url.port,
+                                           kKeepaliveSeconds);
+    const std::string reason = rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc);
+    std::unique_lock lock(mutex_);
+    if (stopping_) return;
+    if (rc == MOSQ_ERR_SUCCESS) {
+      // From here on libmosquitto's loop reconnects by itself.
+      const int loop = mosquitto_loop_start(mosq_);
+      loop_running_ = loop == MOSQ_ERR_SUCCESS;
+      if (!loop_running_) {
+        events_.push_back(
+            fmt::format("mqtt: cannot start the network thread: {}", mosquitto_strerror(loop)));
+      }
+      return;
+    }
+    if (delay == std::chrono::seconds(1)) {
+      events_.push_back(fmt::format("mqtt: cannot reach {}:{} ({}); retrying with back-off",
+                                    options_.url.host, options_.url.port, reason));
+    }
+    if (stop_starting_.wait_for(lock, delay, [this] { return stopping_; })) return;
+    delay = std::min(delay * 2, std::chrono::seconds(30));
   }
-  check(mosquitto_loop_start(mosq_), "network thread");
-  loop_running_ = true;
 }
 
 MqttClient::~MqttClient() {
@@ -192,6 +212,12 @@ void MqttClient::close(std::chrono::milliseconds grace) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   pump();  // the last events
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  stop_starting_.notify_all();
+  if (starter_.joinable()) starter_.join();
   mosquitto_disconnect(mosq_);
   if (loop_running_) mosquitto_loop_stop(mosq_, false);
   loop_running_ = false;

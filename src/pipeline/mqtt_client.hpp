@@ -1,8 +1,10 @@
 #pragma once
 // Publishes MqttMessages to a broker with libmosquitto, without ever holding up the capture.
 //
-//  * libmosquitto runs its network loop on a thread of its own (mosquitto_loop_start): it
-//    connects, reconnects with a back-off (1 s doubling to 30 s) and writes. The capture
+//  * A starter thread makes the first connection (name lookup included), retrying with a
+//    back-off (1 s doubling to 30 s) while the broker cannot be reached; then libmosquitto
+//    runs its network loop on a thread of its own (mosquitto_loop_start): it writes, and
+//    reconnects with the same back-off when the connection is lost. The capture
 //    thread only puts messages into a bounded queue (publish) and, from its timers, hands
 //    them to libmosquitto while connected (pump); neither waits for the network.
 //  * The queue holds at most `queue_limit` messages: when full, the oldest is dropped and
@@ -16,6 +18,7 @@
 //    thread and handed to `on_event` by pump(), on the capture thread.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -23,6 +26,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "report/mqtt_feed.hpp"
@@ -62,7 +66,8 @@ struct MqttClientOptions {
 class MqttClient {
  public:
   // Starts connecting in the background. Throws InputError for options libmosquitto
-  // refuses (e.g. TLS unavailable); a broker that is down is not an error.
+  // refuses (e.g. TLS unavailable); a broker that is down is not an error: it is tried
+  // again until it answers.
   explicit MqttClient(MqttClientOptions options);
   ~MqttClient();
   MqttClient(const MqttClient&) = delete;
@@ -79,16 +84,20 @@ class MqttClient {
   [[nodiscard]] std::uint64_t published() const { return published_.load(); }
 
  private:
+  void start_connecting();  // the starter thread
   static void on_connect(mosquitto* mosq, void* self, int rc);
   static void on_disconnect(mosquitto* mosq, void* self, int rc);
   static void on_publish(mosquitto* mosq, void* self, int mid);
 
   MqttClientOptions options_;
   mosquitto* mosq_ = nullptr;
-  bool loop_running_ = false;
   bool closed_ = false;
+  std::thread starter_;
 
-  std::mutex mutex_;  // guards everything below, shared with the network thread
+  std::mutex mutex_;  // guards everything below, shared with the other threads
+  std::condition_variable stop_starting_;
+  bool stopping_ = false;
+  bool loop_running_ = false;
   std::deque<MqttMessage> queue_;
   std::map<std::string, MqttMessage> retained_;  // by topic
   std::vector<std::string> events_;

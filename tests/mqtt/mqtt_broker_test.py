@@ -7,8 +7,9 @@
              for its unit; the last value of every point equals the last value the demo
              decoded; slaves 1-4 are online; the CRC faults are findings; the last health
              message counts the demo's frames; rtuscope's own status ends "offline".
-  restart    the broker is stopped mid-run and started again: the demo decodes the traffic
-             exactly as without a broker, says the connection was lost and came back, values
+  restart    the demo starts before the broker, which is then started, stopped mid-run and
+             started again: the demo decodes the traffic exactly as without a broker, says
+             it could not connect, was connected, lost the connection and got it back; values
              reach a subscriber after the restart, and the messages dropped from the small
              queue are counted.
 """
@@ -193,14 +194,17 @@ def discovery(args, work):
 
 def restart(args, work):
     port = free_port()
-    broker = start_broker(work, port)
-    procs = [broker]
+    procs = []
     try:
-        demo = subprocess.Popen([args.rtuscope, "demo", "--format", "jsonl", "--repeat", "2",
+        # 3 × 6 s of traffic: time for the starter's and the loop's back-offs (1, 2, 4 s).
+        demo = subprocess.Popen([args.rtuscope, "demo", "--format", "jsonl", "--repeat", "3",
                                  "--mqtt", f"mqtt://127.0.0.1:{port}", "--mqtt-queue", "40"],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         procs.append(demo)
-        time.sleep(2.0)
+        time.sleep(1.0)
+        broker = start_broker(work, port)
+        procs.append(broker)
+        time.sleep(3.5)
         broker.send_signal(signal.SIGTERM)
         broker.wait(timeout=10)
         time.sleep(3.0)  # the demo goes on; its queue overflows
@@ -221,14 +225,19 @@ def restart(args, work):
                               "jsonl"], capture_output=True, text=True, timeout=60)
     body = [r["hex"] for r in jsonl(out) if r.get("kind") in ("frame", "noise")]
     want = [r["hex"] for r in jsonl(decoded.stdout) if r.get("kind") in ("frame", "noise")]
-    if body != want + want:
-        fail(f"with the broker gone the demo decoded {len(body)} records, the traffic played "
-             f"twice has {2 * len(want)}")
-    for needle in ("mqtt: connection to", "lost", "mqtt: queue full (40 messages)",
-                   "messages dropped so far"):
+    # Every byte played was read and decoded. (On a loaded machine the pseudo-terminals'
+    # timing may frame a record or two differently from the file, MQTT or not.)
+    if "".join(body) != "".join(want) * 3:
+        fail(f"with the broker gone the demo's {len(body)} records hold other bytes than the "
+             f"traffic played three times ({3 * len(want)} records)")
+    reframed = sum(1 for a, b in zip(body, want * 3) if a != b)
+    if reframed > len(body) // 50:
+        fail(f"{reframed} of {len(body)} records framed differently from the traffic file")
+    for needle in ("mqtt: cannot reach", "mqtt: connection to", "lost",
+                   "mqtt: queue full (40 messages)", "messages dropped so far"):
         if needle not in err:
             fail(f"the demo did not say '{needle}': {err}")
-    if err.count("mqtt: connected to") < 2:
+    if err.count("mqtt: connected to") != 2:
         fail(f"the demo did not reconnect: {err}")
     summary = [l for l in err.splitlines() if "messages published," in l]
     dropped = int(summary[-1].split(", ")[1].split()[0]) if summary else 0
@@ -237,7 +246,8 @@ def restart(args, work):
     after = [json.loads(p) for _, t, p in messages(sub_path) if not t.endswith("/status")]
     if not after:
         fail("no values reached a subscriber after the broker came back")
-    print(f"OK: the demo decoded all {len(body)} records with the broker stopped for 3 s; "
+    print(f"OK: the demo decoded every byte ({len(body)} records, {reframed} framed otherwise "
+          f"than the file) with the broker absent at the start and stopped for 3 s; "
           f"{len(after)} values after the restart; {dropped} messages dropped and counted")
 
 

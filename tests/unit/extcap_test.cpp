@@ -5,10 +5,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -55,37 +56,68 @@ TEST(Extcap, DltsAreUpperPduThenRtacSerial) {
   EXPECT_TRUE(lines[1].starts_with("dlt {number=250}{name=RTAC_SERIAL}")) << lines[1];
 }
 
+// "arg {number=0}{call=--baud}" → {"arg", {{"number","0"}, {"call","--baud"}}}; an empty
+// keyword when the line is not a keyword followed by {key=value} groups only.
+struct ExtcapLine {
+  std::string keyword;
+  std::map<std::string, std::string> fields;
+};
+ExtcapLine parse_line(const std::string& line) {
+  ExtcapLine parsed;
+  const std::size_t space = line.find(' ');
+  if (space == std::string::npos) return {};
+  std::string rest = line.substr(space + 1);
+  while (!rest.empty()) {
+    const std::size_t close = rest.find('}');
+    const std::size_t equals = rest.find('=');
+    if (rest[0] != '{' || close == std::string::npos || equals == std::string::npos ||
+        equals > close || rest.find('{', 1) < close) {
+      return {};
+    }
+    const std::string key = rest.substr(1, equals - 1);
+    if (key.empty() || key.find_first_not_of("abcdefghijklmnopqrstuvwxyz") != std::string::npos) {
+      return {};
+    }
+    parsed.fields[key] = rest.substr(equals + 1, close - equals - 1);
+    rest = rest.substr(close + 1);
+  }
+  parsed.keyword = line.substr(0, space);
+  return parsed;
+}
+
 // Every line is a keyword and {key=value} groups; calls are lowercase (an uppercase letter
-// makes Wireshark abort); numbers are unique and each value points at a selector arg.
+// makes Wireshark abort); numbers count up from 0; each value points at a selector arg,
+// and each selector has one default.
 TEST(Extcap, ConfigIsWellFormedForWireshark) {
-  const std::regex line_shape(R"((arg|value) (\{[a-z]+=[^{}]*\})+)");
-  const std::regex number(R"(\{number=(\d+)\})");
-  const std::regex call(R"(\{call=([^}]*)\})");
-  const std::regex value_arg(R"(^value \{arg=(\d+)\})");
   std::vector<std::string> calls;
   std::vector<int> selectors;
-  int defaults_per_selector = 0;
+  int defaults = 0;
   for (const auto& line : lines_of(extcap::config_text())) {
-    EXPECT_TRUE(std::regex_match(line, line_shape)) << line;
-    std::smatch m;
-    if (std::regex_search(line, m, call)) {
-      calls.push_back(m[1]);
-      EXPECT_EQ(m[1].str().find_first_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ"), std::string::npos);
-      ASSERT_TRUE(std::regex_search(line, m, number)) << line;
-      EXPECT_EQ(std::stoi(m[1]), static_cast<int>(calls.size()) - 1) << line;
-      if (line.find("{type=selector}") != std::string::npos) {
-        selectors.push_back(std::stoi(m[1]));
-      }
-    }
-    if (std::regex_search(line, m, value_arg)) {
-      EXPECT_NE(std::find(selectors.begin(), selectors.end(), std::stoi(m[1])), selectors.end())
-          << line;
-      if (line.find("{default=true}") != std::string::npos) ++defaults_per_selector;
+    const ExtcapLine parsed = parse_line(line);
+    ASSERT_TRUE(parsed.keyword == "arg" || parsed.keyword == "value") << line;
+    if (parsed.keyword == "arg") {
+      const std::string& call = parsed.fields.at("call");
+      EXPECT_EQ(call.find_first_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ"), std::string::npos) << line;
+      EXPECT_EQ(parsed.fields.at("number"), std::to_string(calls.size())) << line;
+      calls.push_back(call);
+      if (parsed.fields.at("type") == "selector")
+        selectors.push_back(static_cast<int>(calls.size()) - 1);
+    } else {
+      const int arg = std::stoi(parsed.fields.at("arg"));
+      EXPECT_NE(std::find(selectors.begin(), selectors.end(), arg), selectors.end()) << line;
+      if (parsed.fields.count("default") != 0) ++defaults;
     }
   }
   EXPECT_EQ(calls, (std::vector<std::string>{"--baud", "--parity", "--stop", "--timeout-ms",
                                              "--bus", "--link-type"}));
-  EXPECT_EQ(defaults_per_selector, static_cast<int>(selectors.size()));
+  EXPECT_EQ(defaults, static_cast<int>(selectors.size()));
+}
+
+TEST(Extcap, TheLineParserOfThisTestRejectsMalformedLines) {
+  EXPECT_EQ(parse_line("arg {number=0}{call=--baud}").keyword, "arg");
+  EXPECT_EQ(parse_line("arg {number=0}call=--baud}").keyword, "");
+  EXPECT_EQ(parse_line("arg {Number=0}").keyword, "");
+  EXPECT_EQ(parse_line("arg").keyword, "");
 }
 
 TEST(Extcap, PortListSplitsOnColonsAndSkipsEmptyEntries) {

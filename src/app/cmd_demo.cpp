@@ -14,6 +14,7 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/live_session.hpp"
+#include "app/mqtt_options.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/burst_collector.hpp"
 #include "pipeline/replay.hpp"
@@ -31,6 +32,7 @@ struct DemoArgs {
   std::string write_path;
   std::string report;
   unsigned repeat = 1;
+  MqttOptions mqtt;
 };
 
 // The bundled traffic: the simulator's master polling the four documented devices
@@ -103,7 +105,13 @@ void run_demo(DemoArgs& args, int& exit_code) {
     bus.stop();  // every byte played is in its log now
     print_summary(summary, bus);
   };
+  std::unique_ptr<MqttPublishing> mqtt;
+  if (args.mqtt.enabled()) {
+    mqtt = std::make_unique<MqttPublishing>(args.mqtt, "demo", "rtuscope demo");
+    mqtt->attach(session, hooks);
+  }
   run_live_session(session, *devices, hooks);
+  if (mqtt) mqtt->finish();
   if (!args.write_path.empty()) {
     fmt::print(stderr, "rtuscope demo: recorded to {} (replay: rtuscope decode {})\n",
                args.write_path, args.write_path);
@@ -126,6 +134,7 @@ void setup_demo(CLI::App& app, int& exit_code) {
                   "Also write the run's traffic report to this file (.html, .json, else text)");
   cmd->add_option("--repeat", args->repeat, "Play the traffic this many times (default 1)")
       ->check(CLI::Range(1U, 1000U));
+  args->mqtt.add_to(*cmd);
   cmd->callback([args, &exit_code] { run_demo(*args, exit_code); });
 }
 

@@ -2,6 +2,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +12,7 @@
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/live_session.hpp"
+#include "app/mqtt_options.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
@@ -32,6 +35,7 @@ struct LiveArgs {
   std::size_t keep = 0;
   std::string report;
   std::string report_format;
+  MqttOptions mqtt;
 };
 
 void print_summary(const LiveSummary& s) {
@@ -96,7 +100,14 @@ void run_live(const LiveArgs& args, int& exit_code) {
                  fmt::join(recorder->files(), ", "));
     }
   };
+  std::unique_ptr<MqttPublishing> mqtt;
+  if (args.mqtt.enabled()) {
+    mqtt = std::make_unique<MqttPublishing>(
+        args.mqtt, std::filesystem::path(args.ports.front()).filename().string(), "rtuscope");
+    mqtt->attach(session, hooks);
+  }
   run_live_session(session, *devices, hooks);
+  if (mqtt) mqtt->finish();
   exit_code = 0;
 }
 
@@ -128,6 +139,7 @@ void setup_live(CLI::App& app, int& exit_code) {
   cmd->add_option("--report-format", args->report_format,
                   "Report format (default: from the file name: .html, .json, else text)")
       ->check(CLI::IsMember(format_names(report_formats())));
+  args->mqtt.add_to(*cmd);
   cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
 }
 

@@ -22,12 +22,16 @@
 namespace rtu::app {
 namespace {
 
-// Asks `finished` every 20 ms and stops the capture once it says so.
+// Every 20 ms: calls `periodic`, asks `finished` and stops the capture once it says so.
 class FinishWatch {
  public:
-  FinishWatch(boost::asio::io_context& io, std::function<bool()> finished, LiveCapture& capture)
-      : timer_(io), finished_(std::move(finished)), capture_(capture) {
-    if (finished_) arm();
+  FinishWatch(boost::asio::io_context& io, std::function<bool()> finished,
+              std::function<void()> periodic, LiveCapture& capture)
+      : timer_(io),
+        finished_(std::move(finished)),
+        periodic_(std::move(periodic)),
+        capture_(capture) {
+    if (finished_ || periodic_) arm();
   }
 
  private:
@@ -35,7 +39,8 @@ class FinishWatch {
     timer_.expires_after(std::chrono::milliseconds(20));
     timer_.async_wait([this](const boost::system::error_code& ec) {
       if (ec) return;
-      if (finished_()) {
+      if (periodic_) periodic_();
+      if (finished_ && finished_()) {
         capture_.stop();
       } else {
         arm();
@@ -45,6 +50,7 @@ class FinishWatch {
 
   boost::asio::steady_timer timer_;
   std::function<bool()> finished_;
+  std::function<void()> periodic_;
   LiveCapture& capture_;
 };
 
@@ -53,15 +59,18 @@ class FinishWatch {
 void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
                       const LiveSessionHooks& hooks) {
   OutputStream out(setup.output);
-  const auto writer = make_record_writer(setup.format, out, true);
+  const auto writer =
+      setup.frames_sink != nullptr ? nullptr : make_record_writer(setup.format, out, true);
   std::unique_ptr<PcapngRecorder> recorder;
   if (!setup.record_path.empty()) {
     recorder = std::make_unique<PcapngRecorder>(setup.record_path, setup.rotation);
   }
+  ChunkRecorder* const chunk_recorder =
+      setup.chunk_recorder != nullptr ? setup.chunk_recorder : recorder.get();
 
   // Frames go to the screen (or a file) and, when reported on, to the report's statistics.
   RecordFanout sinks;
-  sinks.add(*writer);
+  sinks.add(writer ? *writer : *setup.frames_sink);
   std::optional<RunReport> report;
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!setup.report_path.empty()) report_out.emplace(setup.report_path);
@@ -69,15 +78,22 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
     report.emplace(devices);
     sinks.add(report->sink());
   }
+  for (RecordSink* sink : setup.extra_sinks) sinks.add(*sink);
   // One decode per frame: the screen and the report read the same device stage.
-  dissect::DeviceStage stage(devices.table, sinks, report.has_value());
+  dissect::DeviceStage stage(devices.table, sinks,
+                             report.has_value() || !setup.extra_sinks.empty());
 
   boost::asio::io_context io;
   SystemClock clock;
   const std::string& prefix = setup.prefix;
-  LiveCapture capture(
-      io, clock, setup.capture, stage, recorder.get(),
-      [&prefix](const std::string& m) { fmt::print(stderr, "{}: {}\n", prefix, m); });
+  LiveCapture capture(io, clock, setup.capture, stage, chunk_recorder,
+                      [&prefix, &hooks](const std::string& m) {
+                        if (hooks.on_note) {
+                          hooks.on_note(m);
+                        } else {
+                          fmt::print(stderr, "{}: {}\n", prefix, m);
+                        }
+                      });
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int) {
     if (ec) return;
@@ -90,7 +106,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   capture.start();
   if (hooks.on_listening) hooks.on_listening(capture);
   {
-    const FinishWatch watch(io, hooks.finished, capture);
+    const FinishWatch watch(io, hooks.finished, hooks.periodic, capture);
     while (!capture.stopped()) io.run_one();
   }
   signals.cancel();

@@ -5,6 +5,7 @@
 // bus it listens to, and ends when that traffic is over).
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "app/device_options.hpp"
 #include "pipeline/live_capture.hpp"
@@ -23,6 +24,14 @@ struct LiveSessionSetup {
   // Gather the report's statistics and list its findings even without a report file.
   bool always_report = false;
   std::string prefix = "rtuscope";  // of every message on stderr
+  // Set: the frames go to this sink instead of being written to `output` (a pipe to
+  // Wireshark). Not owned.
+  RecordSink* frames_sink = nullptr;
+  // Set: every read goes to this recorder instead of a file at record_path. Not owned.
+  ChunkRecorder* chunk_recorder = nullptr;
+  // Also get every record, after the frames are written, with the device points' values
+  // (e.g. the MQTT feed). Not owned.
+  std::vector<RecordSink*> extra_sinks;
 };
 
 // What a command adds to the session. Every hook may be left empty.
@@ -31,6 +40,12 @@ struct LiveSessionHooks {
   std::function<void(const LiveCapture& capture)> on_listening;
   // Asked every 20 ms while it runs: true ends the session (as a stop would).
   std::function<bool()> finished;
+  // Called every 20 ms while it runs, on the capture's thread (e.g. to hand queued
+  // messages on).
+  std::function<void()> periodic;
+  // A one-line message for the user (a port note, an unplugged adapter). Empty: printed on
+  // stderr after the prefix.
+  std::function<void(const std::string& message)> on_note;
   // SIGINT or SIGTERM came. Empty: the session ends.
   std::function<void()> on_signal;
   // The capture stopped and the frames were flushed: say what the run did. The recorder is

@@ -1,6 +1,7 @@
 #pragma once
 // Reads device maps (dissectors/*.toml, format in dissectors/README.md) and bus files.
-// This is the only translation unit that includes toml++: it is heavy to compile.
+// This and sensor_classes.cpp are the only translation units that include toml++: it is
+// heavy to compile.
 #include <string>
 #include <string_view>
 #include <vector>

@@ -62,6 +62,9 @@ RotationPolicy parse_rotation(const std::string& text) {
 PcapngRecorder::PcapngRecorder(std::string path, RotationPolicy rotation)
     : path_(std::move(path)), rotation_(rotation) {}
 
+PcapngRecorder::PcapngRecorder(std::unique_ptr<ByteOutput> output, std::string name)
+    : path_(std::move(name)), given_output_(std::move(output)) {}
+
 PcapngRecorder::~PcapngRecorder() {
   if (writer_) writer_->flush();
 }
@@ -90,7 +93,8 @@ void PcapngRecorder::open_file(Nanos t) {
                .string();
   }
   if (writer_) writer_->flush();
-  writer_ = std::make_unique<PcapngWriter>(std::make_unique<FileOutput>(path));
+  writer_ = std::make_unique<PcapngWriter>(given_output_ ? std::move(given_output_)
+                                                         : std::make_unique<FileOutput>(path));
   interfaces_.clear();
   for (const auto& port : ports_) {
     interfaces_.push_back(

@@ -45,6 +45,8 @@ class PcapngRecorder final : public ChunkRecorder {
  public:
   // Throws InputError when the file cannot be created.
   PcapngRecorder(std::string path, RotationPolicy rotation = {});
+  // Records into `output` (a pipe to a live reader), named `name` in files(); no rotation.
+  PcapngRecorder(std::unique_ptr<ByteOutput> output, std::string name);
   ~PcapngRecorder() override;
 
   void add_port(std::size_t port, const std::string& name, const LineSettings& line,
@@ -71,6 +73,7 @@ class PcapngRecorder final : public ChunkRecorder {
   RotationPolicy rotation_;
   std::vector<PortInfo> ports_;
   std::unique_ptr<PcapngWriter> writer_;
+  std::unique_ptr<ByteOutput> given_output_;  // used instead of a file at path_, once
   std::vector<std::uint32_t> interfaces_;
   std::vector<std::uint8_t> buffer_;
   std::deque<std::string> kept_files_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace rtu {
 
@@ -43,9 +44,14 @@ void JsonWriter::end_array() {
 
 void JsonWriter::key(std::string_view name) {
   separate();
-  out_.push_back('"');
-  out_.append(name);
-  out_.append(std::string_view("\":"));
+  const std::size_t at = out_.size();
+  out_.resize(at + name.size() + 3);
+  char* p = out_.data() + at;
+  *p++ = '"';
+  std::memcpy(p, name.data(), name.size());
+  p += name.size();
+  *p++ = '"';
+  *p = ':';
   after_key_ = true;
 }
 
@@ -55,8 +61,16 @@ bool needs_escape(char c) {
   return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20;
 }
 
+// Appends `text` with one size check and one copy: fmt's append() loops in pieces and is
+// not inlined, which costs more than the copy for the short keys and values of a record.
+void put(fmt::memory_buffer& out, std::string_view text) {
+  const std::size_t at = out.size();
+  out.resize(at + text.size());
+  std::memcpy(out.data() + at, text.data(), text.size());
+}
+
 void append_integer(fmt::memory_buffer& out, const fmt::format_int& digits) {
-  out.append(digits.data(), digits.data() + digits.size());
+  put(out, std::string_view(digits.data(), digits.size()));
 }
 
 }  // namespace
@@ -66,7 +80,7 @@ void JsonWriter::value(std::string_view text) {
   out_.push_back('"');
   // Names and units rarely hold anything to escape: those are copied whole.
   if (std::none_of(text.begin(), text.end(), needs_escape)) {
-    out_.append(text);
+    put(out_, text);
     out_.push_back('"');
     return;
   }
@@ -90,7 +104,7 @@ void JsonWriter::value(std::string_view text) {
 
 void JsonWriter::value(bool b) {
   separate();
-  out_.append(b ? std::string_view("true") : std::string_view("false"));
+  put(out_, b ? std::string_view("true") : std::string_view("false"));
 }
 
 void JsonWriter::value(std::int64_t n) {
@@ -123,12 +137,12 @@ void JsonWriter::value_double(double x) {
 
 void JsonWriter::null() {
   separate();
-  out_.append(std::string_view("null"));
+  put(out_, "null");
 }
 
 void JsonWriter::value_raw(std::string_view json_text) {
   separate();
-  out_.append(json_text);
+  put(out_, json_text);
 }
 
 void JsonWriter::hex(std::span<const std::uint8_t> bytes) {

@@ -1,6 +1,7 @@
 #include "core/time_format.hpp"
 
 #include <array>
+#include <cstring>
 #include <iterator>
 
 namespace rtu {
@@ -28,16 +29,19 @@ void append_fixed(fmt::memory_buffer& out, Nanos value, Nanos unit, int decimals
   // Every record's time goes through here: digits are written directly, not through a
   // format string.
   const fmt::format_int whole_digits(whole);
-  out.append(whole_digits.data(), whole_digits.data() + whole_digits.size());
+  const std::size_t at = out.size();
+  const auto fraction_size = decimals == 0 ? 0U : static_cast<std::size_t>(decimals) + 1U;
+  out.resize(at + whole_digits.size() + fraction_size);
+  char* p = out.data() + at;
+  std::memcpy(p, whole_digits.data(), whole_digits.size());
   if (decimals == 0) return;
-  std::array<char, 10> text{};
-  text[0] = '.';
+  p += whole_digits.size();
+  *p = '.';
   Nanos rest_digits = frac;  // < 10^decimals
   for (int i = decimals; i >= 1; --i) {
-    text[static_cast<std::size_t>(i)] = static_cast<char>('0' + rest_digits % 10);
+    p[i] = static_cast<char>('0' + rest_digits % 10);
     rest_digits /= 10;
   }
-  out.append(text.data(), text.data() + decimals + 1);
 }
 
 }  // namespace

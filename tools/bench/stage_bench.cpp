@@ -1,0 +1,157 @@
+// Throughput of the hot stages one at a time, so that an optimisation's gain can be measured
+// before and after on the stage it touches: time parsing, CRC, text hex reading, PDU
+// decoding, the device stage with the report's statistics, and JSON writing.
+// Run: build/tools/bench/rtuscope_bench --benchmark_filter=Stage
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bus_builder.hpp"
+#include "capture/decimal_time.hpp"
+#include "capture/open_capture.hpp"
+#include "core/crc16.hpp"
+#include "core/json_writer.hpp"
+#include "dissect/device_stage.hpp"
+#include "dissect/device_table.hpp"
+#include "modbus/pdu.hpp"
+#include "pipeline/decode_pipeline.hpp"
+#include "report/traffic_stats.hpp"
+
+namespace rtu {
+namespace {
+
+// Four slaves polled for three registers each, 20 ms apart, answered 5 ms later.
+test::BusBuilder polling(int transactions) {
+  test::BusBuilder bus;
+  for (int i = 0; i < transactions; ++i) {
+    const auto slave = static_cast<std::uint8_t>(1 + i % 4);
+    bus.add(test::with_crc({slave, 0x03, 0x00, 0x32, 0x00, 0x03}), 20 * kNanosPerMilli);
+    bus.add(test::with_crc(
+                {slave, 0x03, 0x06, 0xEA, 0x60, 0xC3, 0x50, 0xDB, static_cast<std::uint8_t>(i)}),
+            5 * kNanosPerMilli);
+  }
+  return bus;
+}
+
+// The records a bus decodes to, kept (with their requests) for stages after pairing.
+class Keep final : public RecordSink {
+ public:
+  void on_record(Record& r) override { records.push_back(r); }
+  std::vector<Record> records;
+};
+
+void BM_StageDecimalSeconds(benchmark::State& state) {
+  std::vector<std::string> stamps;
+  for (int i = 0; i < 1000; ++i) stamps.push_back(fmt::format("1700000{:03d}.{:06d}", i, i * 997));
+  for (auto _ : state) {
+    for (const auto& s : stamps) benchmark::DoNotOptimize(parse_decimal_seconds(s, false));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * stamps.size()));
+}
+
+void BM_StageCrc16(benchmark::State& state) {
+  std::vector<std::uint8_t> frame(static_cast<std::size_t>(state.range(0)));
+  for (std::size_t i = 0; i < frame.size(); ++i) frame[i] = static_cast<std::uint8_t>(i * 31);
+  for (auto _ : state) benchmark::DoNotOptimize(crc16(frame));
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * state.range(0));
+}
+
+// A per-byte text hex capture on disk, read through its reader with nothing after it.
+void BM_StageTextHexReader(benchmark::State& state) {
+  const auto bus = polling(4000);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / fmt::format("rtuscope-bench-{}.hex", ::getpid()))
+          .string();
+  {
+    std::ofstream out(path);
+    out << "# baud=9600 parity=E stop=1\n";
+    for (const Chunk& c : bus.per_byte()) {
+      out << fmt::format("{}.{:09d} {:02X}\n", c.t_end / kNanosPerSecond, c.t_end % kNanosPerSecond,
+                         c.bytes[0]);
+    }
+  }
+  class Null final : public CaptureConsumer {
+   public:
+    void on_chunk(const Chunk& c) override { benchmark::DoNotOptimize(c.t_end); }
+    void on_frame(std::span<const std::uint8_t>, Nanos, std::uint64_t) override {}
+    void on_noise(std::span<const std::uint8_t>, Nanos, std::uint64_t) override {}
+    void on_end(Nanos) override {}
+  } null;
+  std::int64_t lines = 0;
+  for (auto _ : state) {
+    auto reader = open_capture(path, [](std::string_view) {});
+    while (reader->read(null)) ++lines;
+  }
+  std::remove(path.c_str());
+  state.SetItemsProcessed(lines);
+}
+
+void BM_StageDecodePdu(benchmark::State& state) {
+  Keep kept;
+  PipelineOptions options;
+  options.timing_resolution = kNanosPerMicro;
+  DecodePipeline pipeline(options, kept);
+  for (const auto& c : polling(500).per_byte()) pipeline.push(c);
+  pipeline.finish();
+  for (auto _ : state) {
+    for (const Record& r : kept.records) benchmark::DoNotOptimize(decode_pdu(r, r.role));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kept.records.size()));
+}
+
+// Framing and pairing, then the device stage (raw register values) and the statistics:
+// the report's whole decoding pass after the reader.
+void BM_StageReportPass(benchmark::State& state) {
+  const auto bus = polling(2000);
+  const auto chunks = bus.batched(16 * kNanosPerMilli);
+  PipelineOptions options;
+  options.line = bus.line();
+  options.timing_resolution = 16 * kNanosPerMilli;
+  for (auto _ : state) {
+    TrafficStats stats;
+    dissect::DeviceTable table;
+    dissect::DeviceStage stage(table, stats, true);
+    DecodePipeline pipeline(options, stage);
+    for (const auto& c : chunks) pipeline.push(c);
+    pipeline.finish();
+    benchmark::DoNotOptimize(stats.totals().frames);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * 4000);
+}
+
+void BM_StageJsonWriter(benchmark::State& state) {
+  fmt::memory_buffer out;
+  const std::vector<std::uint8_t> adu = {0x01, 0x03, 0x06, 0xEA, 0x60, 0xC3, 0x50, 0xDB, 0x12};
+  for (auto _ : state) {
+    out.clear();
+    JsonWriter json(out);
+    json.begin_object();
+    json.field("t", std::int64_t{1'700'000'000'123'456'789});
+    json.field("kind", "frame");
+    json.field("slave", 1U);
+    json.field("fc", 3U);
+    json.key("hex");
+    json.hex(adu);
+    json.key("value");
+    json.value_fixed(229.8, 1);
+    json.end_object();
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+
+BENCHMARK(BM_StageDecimalSeconds);
+BENCHMARK(BM_StageCrc16)->Arg(8)->Arg(256);
+BENCHMARK(BM_StageTextHexReader)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageDecodePdu);
+BENCHMARK(BM_StageReportPass)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageJsonWriter);
+
+}  // namespace
+}  // namespace rtu

@@ -341,7 +341,7 @@ void Framer::fill_record(Record& rec, std::size_t from, std::size_t length) cons
 void Framer::emit_frame(std::size_t length) {
   flush_noise();
   Record& rec = scratch_;
-  rec = Record{};
+  rec.reset_keeping_storage();
   rec.kind = RecordKind::kFrame;
   fill_record(rec, 0, length);
   classify_frame(rec);

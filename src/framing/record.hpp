@@ -57,11 +57,37 @@ struct Record {
   // where no device stage runs.
   const dissect::DeviceReading* device = nullptr;
 
+  // Every field back to its default, except that storage keeps its old bytes: a producer
+  // about to write `size` bytes into it need not clear all kMaxAdu of them for each frame.
+  // Only bytes() (the first `size`) have meaning.
+  void reset_keeping_storage() {
+    kind = RecordKind::kFrame;
+    seq = 0;
+    t_start = 0;
+    t_end = 0;
+    gap_before = kUnknownTime;
+    origin = 0;
+    size = 0;
+    line_errors = 0;
+    shape_fit = kFitsNone;
+    crc_ok = false;
+    issues = IssueSet{};
+    role = Role::kUnknown;
+    txn = -1;
+    latency = kUnknownTime;
+    request = nullptr;
+    device = nullptr;
+  }
+
   [[nodiscard]] std::span<const std::uint8_t> bytes() const { return {storage.data(), size}; }
   [[nodiscard]] std::uint8_t slave() const { return size > 0 ? storage[0] : 0; }
   [[nodiscard]] std::uint8_t function() const { return size > 1 ? storage[1] : 0; }
   [[nodiscard]] bool is_exception() const { return size > 1 && (storage[1] & 0x80U) != 0; }
 };
+
+// A field added to Record must be reset by reset_keeping_storage() too: this fails until the
+// size below is updated, as a reminder.
+static_assert(sizeof(Record) == 360, "new Record field: reset it in reset_keeping_storage()");
 
 // Receives records in time order.
 class RecordSink {

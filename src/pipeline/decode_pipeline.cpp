@@ -115,7 +115,7 @@ Nanos DecodePipeline::timing_resolution() const {
 Record& DecodePipeline::Impl::imported_record(RecordKind kind, std::span<const std::uint8_t> bytes,
                                               Nanos t_start, Nanos t_end, std::uint64_t origin) {
   Record& rec = imported;
-  rec = Record{};
+  rec.reset_keeping_storage();
   rec.kind = kind;
   rec.size = static_cast<std::uint16_t>(std::min(bytes.size(), kMaxAdu));
   std::memcpy(rec.storage.data(), bytes.data(), rec.size);

@@ -14,6 +14,7 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/live_session.hpp"
+#include "app/monitoring_options.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/burst_collector.hpp"
 #include "pipeline/replay.hpp"
@@ -31,6 +32,8 @@ struct DemoArgs {
   std::string write_path;
   std::string report;
   unsigned repeat = 1;
+  std::string metrics;
+  std::string bus_name = "demo";
 };
 
 // The bundled traffic: the simulator's master polling the four documented devices
@@ -85,17 +88,32 @@ void run_demo(DemoArgs& args, int& exit_code) {
   session.report_path = args.report;
   session.always_report = true;  // the demo shows its findings even without --report
   session.prefix = "rtuscope demo";
+  session.metrics_address = args.metrics;
+  session.bus_name = args.bus_name;
 
   // The traffic starts once rtuscope listens, and the run ends once it is over; a Ctrl-C
-  // stops the traffic, and the run then ends the same way.
+  // stops the traffic, and the run then ends the same way. With --metrics the run goes on
+  // after the traffic until Ctrl-C (or SIGTERM), so the final counts can still be scraped.
+  const bool serve_until_signal = !args.metrics.empty();
+  bool signalled = false;
+  bool said_traffic_over = false;
   std::optional<TrafficPlayer> player;
   LiveSessionHooks hooks;
   hooks.on_listening = [&](const LiveCapture&) {
     player.emplace(std::move(collector.bursts), args.repeat, bus.paths()[0], bus.paths()[1],
                    traffic_info.line.char_time());
   };
-  hooks.finished = [&player] { return player && player->done(); };
-  hooks.on_signal = [&player] {
+  hooks.finished = [&] {
+    if (!player || !player->done()) return false;
+    if (!serve_until_signal || signalled) return true;
+    if (!said_traffic_over) {
+      said_traffic_over = true;
+      fmt::print(stderr, "rtuscope demo: traffic over; still serving metrics (Ctrl-C to stop)\n");
+    }
+    return false;
+  };
+  hooks.on_signal = [&] {
+    signalled = true;
     if (player) player->stop();
   };
   hooks.on_stopped = [&](const LiveSummary& summary, const PcapngRecorder*) {
@@ -126,6 +144,7 @@ void setup_demo(CLI::App& app, int& exit_code) {
                   "Also write the run's traffic report to this file (.html, .json, else text)");
   cmd->add_option("--repeat", args->repeat, "Play the traffic this many times (default 1)")
       ->check(CLI::Range(1U, 1000U));
+  add_monitoring_options(*cmd, args->metrics, args->bus_name);
   cmd->callback([args, &exit_code] { run_demo(*args, exit_code); });
 }
 

@@ -10,6 +10,7 @@
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
 #include "app/live_session.hpp"
+#include "app/monitoring_options.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
@@ -32,6 +33,8 @@ struct LiveArgs {
   std::size_t keep = 0;
   std::string report;
   std::string report_format;
+  std::string metrics;
+  std::string bus_name;
 };
 
 void print_summary(const LiveSummary& s) {
@@ -83,6 +86,8 @@ void run_live(const LiveArgs& args, int& exit_code) {
   session.output = args.output;
   session.report_path = args.report;
   session.report_format = args.report_format;
+  session.metrics_address = args.metrics;
+  session.bus_name = args.bus_name;
 
   LiveSessionHooks hooks;
   hooks.on_listening = [&options](const LiveCapture& capture) {
@@ -128,6 +133,7 @@ void setup_live(CLI::App& app, int& exit_code) {
   cmd->add_option("--report-format", args->report_format,
                   "Report format (default: from the file name: .html, .json, else text)")
       ->check(CLI::IsMember(format_names(report_formats())));
+  add_monitoring_options(*cmd, args->metrics, args->bus_name);
   cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
 }
 

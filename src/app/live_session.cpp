@@ -7,12 +7,14 @@
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 
+#include "app/metrics_endpoint.hpp"
 #include "app/record_writer.hpp"
 #include "app/run_report.hpp"
 #include "core/output_stream.hpp"
@@ -48,6 +50,13 @@ class FinishWatch {
   LiveCapture& capture_;
 };
 
+// The bus's name in metrics: the one given, else the first port's file name ("ttyUSB0").
+std::string bus_name_for(const LiveSessionSetup& setup) {
+  if (!setup.bus_name.empty()) return setup.bus_name;
+  if (setup.capture.ports.empty()) return "bus";
+  return std::filesystem::path(setup.capture.ports.front()).filename().string();
+}
+
 }  // namespace
 
 void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
@@ -65,9 +74,16 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   std::optional<RunReport> report;
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!setup.report_path.empty()) report_out.emplace(setup.report_path);
-  if (report_out || setup.always_report) {
+  // The metrics render the report's statistics: a run with metrics gathers them too.
+  const bool with_metrics = !setup.metrics_address.empty();
+  if (report_out || setup.always_report || with_metrics) {
     report.emplace(devices);
     sinks.add(report->sink());
+  }
+  std::optional<BusMetrics> metrics;
+  if (with_metrics) {
+    metrics.emplace(bus_name_for(setup), report->stats());
+    sinks.add(*metrics);
   }
   // One decode per frame: the screen and the report read the same device stage.
   dissect::DeviceStage stage(devices.table, sinks, report.has_value());
@@ -87,7 +103,10 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
       capture.stop();
     }
   });
+  std::optional<MetricsEndpoint> endpoint;
+  if (metrics) endpoint.emplace(io, setup.metrics_address, *metrics, capture, recorder.get());
   capture.start();
+  if (endpoint) fmt::print(stderr, "{}: serving metrics on {}\n", prefix, endpoint->url());
   if (hooks.on_listening) hooks.on_listening(capture);
   {
     const FinishWatch watch(io, hooks.finished, capture);
@@ -99,7 +118,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
 
   if (report) {
     report->finish();
-    report->print_findings(stderr, 3);
+    if (report_out || setup.always_report) report->print_findings(stderr, 3);
     if (report_out) {
       report->write(*report_out, setup.report_format.empty() ? report_format_for(setup.report_path)
                                                              : setup.report_format);

@@ -23,6 +23,8 @@ struct LiveSessionSetup {
   // Gather the report's statistics and list its findings even without a report file.
   bool always_report = false;
   std::string prefix = "rtuscope";  // of every message on stderr
+  std::string bus_name;             // labels metrics ("" = the first port's file name)
+  std::string metrics_address;      // serve Prometheus metrics here ("" = nowhere)
 };
 
 // What a command adds to the session. Every hook may be left empty.

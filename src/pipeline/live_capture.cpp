@@ -138,6 +138,7 @@ void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   }
   ++summary_.chunks;
   summary_.bytes += chunk.bytes.size();
+  if (!chunk.bytes.empty()) summary_.last_byte_at = chunk.t_end;
   for (const auto e : chunk.errors) {
     if (e != kLineOk) ++summary_.line_error_bytes;
   }
@@ -170,6 +171,7 @@ void LiveCapture::schedule_reopen(Port& port) {
       return;
     }
     const Nanos back = clock_.now();
+    ++summary_.reconnects;
     notify_(fmt::format("{}: back after {:.1f} s", port.source.config().path,
                         to_seconds(back - port.lost_at)));
     start_port(port);

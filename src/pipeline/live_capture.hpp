@@ -66,6 +66,8 @@ struct LiveSummary {
   std::uint64_t frames_with_issues = 0;
   std::uint64_t line_error_bytes = 0;
   std::uint64_t disconnects = 0;
+  std::uint64_t reconnects = 0;       // ports opened again after a disconnect
+  Nanos last_byte_at = kUnknownTime;  // capture time of the last read that had bytes
   Nanos duration = 0;
   Nanos declared_resolution = 0;  // what the ports promised when opened
   Nanos timing_resolution = 0;    // what the reads showed (never below the promise)
@@ -89,6 +91,8 @@ class LiveCapture {
   [[nodiscard]] bool stopped() const { return stopped_; }
   [[nodiscard]] const LiveSummary& summary() const { return summary_; }
   [[nodiscard]] const CaptureInfo& info() const { return info_; }
+  // Capture time now, on the clock the chunks are stamped with (ns since 1970).
+  [[nodiscard]] Nanos now() { return clock_.now(); }
 
  private:
   class Counter;

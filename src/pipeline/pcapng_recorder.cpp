@@ -127,6 +127,7 @@ void PcapngRecorder::write(std::size_t port, Nanos t, RtacEvent event,
   if (ports_.size() == 2) meta.flags = port == 0 ? pcap::kFlagsOutbound : pcap::kFlagsInbound;
   writer_->write_packet(interfaces_.at(port), t, buffer_, meta);
   file_bytes_ += kRecordOverhead + buffer_.size() + comment.size();
+  bytes_written_ += kRecordOverhead + buffer_.size() + comment.size();
   ++records_;
 }
 

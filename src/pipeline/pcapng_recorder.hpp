@@ -56,6 +56,8 @@ class PcapngRecorder final : public ChunkRecorder {
 
   [[nodiscard]] std::uint64_t records() const { return records_; }
   [[nodiscard]] const std::vector<std::string>& files() const { return all_files_; }
+  // Bytes written so far, every file together.
+  [[nodiscard]] std::uint64_t bytes_written() const { return bytes_written_; }
 
  private:
   struct PortInfo {
@@ -76,6 +78,7 @@ class PcapngRecorder final : public ChunkRecorder {
   std::deque<std::string> kept_files_;
   std::vector<std::string> all_files_;
   std::uint64_t file_bytes_ = 0;
+  std::uint64_t bytes_written_ = 0;
   Nanos file_started_ = kUnknownTime;
   std::uint64_t file_index_ = 0;
   std::uint64_t records_ = 0;

@@ -7,6 +7,10 @@ is over and the numbers have settled, the test waits until Prometheus holds the 
 scrape, queries its HTTP API, stops rtuscope (which writes its report), and checks that the
 counters and histogram counts Prometheus stored equal the report's numbers for the run.
 The bus name carries a quote and a backslash: it must come back from Prometheus intact.
+
+With --dashboard and --rules it also checks that every metric the Grafana dashboard and the
+alert rules use is in rtuscope's exposition, and that every dashboard query is PromQL this
+Prometheus accepts (template variables replaced).
 """
 import argparse
 import json
@@ -114,11 +118,73 @@ def scrape_value(text, name):
     return sum(float(m.group(1)) for m in re.finditer(rf"^{name}{{[^}}]*}} (\S+)$", text, re.M))
 
 
+def metric_names(promql):
+    return set(re.findall(r"\brtuscope_[a-z0-9_]+", promql))
+
+
+def families(exposition):
+    return dict(re.findall(r"^# TYPE (\S+) (\S+)$", exposition, re.M))
+
+
+def family_of(name, known):
+    for suffix in ("_bucket", "_sum", "_count"):
+        base = name[:-len(suffix)]
+        if name.endswith(suffix) and known.get(base) == "histogram":
+            return base
+    return name
+
+
+def dashboard_queries(node):
+    """Every PromQL of a Grafana dashboard: panel targets and template variable queries."""
+    if isinstance(node, dict):
+        for key, value in node.items():
+            if key in ("expr", "definition") and isinstance(value, str):
+                yield value
+            else:
+                yield from dashboard_queries(value)
+    elif isinstance(node, list):
+        for item in node:
+            yield from dashboard_queries(item)
+
+
+def check_names(what, queries, known):
+    used = set()
+    for q in queries:
+        used |= {family_of(n, known) for n in metric_names(q)}
+    missing = sorted(used - set(known))
+    print(f"{what}: uses {len(used)} metrics, {len(missing)} missing from the exposition")
+    if not used or missing:
+        fail(f"{what} uses metrics rtuscope does not serve: {missing}")
+
+
+def check_dashboard_and_rules(args, exposition, prometheus):
+    known = families(exposition)
+    with open(args.dashboard) as f:
+        dashboard = json.load(f)
+    queries = list(dashboard_queries(dashboard))
+    check_names("dashboard", queries, known)
+    with open(args.rules) as f:
+        rules = [m.group(1) for m in re.finditer(r"^\s+expr: (?:\|\n)?((?:.|\n)*?)(?=^\s+for:)",
+                                                    f.read(), re.M)]
+    check_names("alert rules", rules, known)
+    answered = 0
+    for q in queries:
+        if q.startswith("label_values("):  # Grafana's own function, not PromQL
+            q = q[len("label_values("):q.rindex(",")]
+        q = q.replace("$__rate_interval", "1m").replace("$bus", ".*").replace("$slave", ".*")
+        answered += bool(prometheus.query(q))  # fails on a query Prometheus rejects
+    print(f"dashboard: {len(queries)} queries valid, {answered} with data")
+    if answered < len(queries) // 2:
+        fail("most dashboard queries return nothing on the demo's traffic")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rtuscope", required=True)
     ap.add_argument("--prometheus", required=True)
     ap.add_argument("--work", required=True)
+    ap.add_argument("--dashboard")
+    ap.add_argument("--rules")
     args = ap.parse_args()
     os.makedirs(args.work, exist_ok=True)
     work = tempfile.mkdtemp(dir=args.work)
@@ -190,6 +256,9 @@ def main():
             "buses": {r["metric"]["bus"] for r in prometheus.query("rtuscope_frames_total")},
             "models": prometheus.by("sum by (model) (rtuscope_timeouts_total)", "model"),
         }
+
+        if args.dashboard:
+            check_dashboard_and_rules(args, final, prometheus)
 
         demo.send_signal(signal.SIGTERM)
         if demo.wait(timeout=30) != 0:

@@ -32,8 +32,7 @@ struct DemoArgs {
   std::string write_path;
   std::string report;
   unsigned repeat = 1;
-  std::string metrics;
-  std::string bus_name = "demo";
+  MonitoringOptions monitoring;
 };
 
 // The bundled traffic: the simulator's master polling the four documented devices
@@ -88,13 +87,12 @@ void run_demo(DemoArgs& args, int& exit_code) {
   session.report_path = args.report;
   session.always_report = true;  // the demo shows its findings even without --report
   session.prefix = "rtuscope demo";
-  session.metrics_address = args.metrics;
-  session.bus_name = args.bus_name;
+  args.monitoring.apply(session);
 
   // The traffic starts once rtuscope listens, and the run ends once it is over; a Ctrl-C
   // stops the traffic, and the run then ends the same way. With --metrics the run goes on
   // after the traffic until Ctrl-C (or SIGTERM), so the final counts can still be scraped.
-  const bool serve_until_signal = !args.metrics.empty();
+  const bool serve_until_signal = !args.monitoring.metrics.empty();
   bool signalled = false;
   bool said_traffic_over = false;
   std::optional<TrafficPlayer> player;
@@ -144,7 +142,8 @@ void setup_demo(CLI::App& app, int& exit_code) {
                   "Also write the run's traffic report to this file (.html, .json, else text)");
   cmd->add_option("--repeat", args->repeat, "Play the traffic this many times (default 1)")
       ->check(CLI::Range(1U, 1000U));
-  add_monitoring_options(*cmd, args->metrics, args->bus_name);
+  args->monitoring.bus_name = "demo";
+  args->monitoring.add_to(*cmd);
   cmd->callback([args, &exit_code] { run_demo(*args, exit_code); });
 }
 

@@ -33,8 +33,7 @@ struct LiveArgs {
   std::size_t keep = 0;
   std::string report;
   std::string report_format;
-  std::string metrics;
-  std::string bus_name;
+  MonitoringOptions monitoring;
 };
 
 void print_summary(const LiveSummary& s) {
@@ -86,8 +85,7 @@ void run_live(const LiveArgs& args, int& exit_code) {
   session.output = args.output;
   session.report_path = args.report;
   session.report_format = args.report_format;
-  session.metrics_address = args.metrics;
-  session.bus_name = args.bus_name;
+  args.monitoring.apply(session);
 
   LiveSessionHooks hooks;
   hooks.on_listening = [&options](const LiveCapture& capture) {
@@ -133,7 +131,7 @@ void setup_live(CLI::App& app, int& exit_code) {
   cmd->add_option("--report-format", args->report_format,
                   "Report format (default: from the file name: .html, .json, else text)")
       ->check(CLI::IsMember(format_names(report_formats())));
-  add_monitoring_options(*cmd, args->metrics, args->bus_name);
+  args->monitoring.add_to(*cmd);
   cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
 }
 

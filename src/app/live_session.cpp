@@ -16,7 +16,10 @@
 
 #include "app/metrics_endpoint.hpp"
 #include "app/record_writer.hpp"
+#include "app/reopen_on_hangup.hpp"
 #include "app/run_report.hpp"
+#include "app/session_monitor.hpp"
+#include "core/input_error.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -74,21 +77,29 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   std::optional<RunReport> report;
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!setup.report_path.empty()) report_out.emplace(setup.report_path);
-  // The metrics render the report's statistics: a run with metrics gathers them too.
+  // Metrics, events and summaries read the report's statistics: such a run gathers them too.
   const bool with_metrics = !setup.metrics_address.empty();
-  if (report_out || setup.always_report || with_metrics) {
+  const bool with_monitor = !setup.events_path.empty() || setup.summary_every > 0;
+  if (report_out || setup.always_report || with_metrics || with_monitor) {
     report.emplace(devices);
     sinks.add(report->sink());
   }
+  const std::string bus_name = bus_name_for(setup);
   std::optional<BusMetrics> metrics;
   if (with_metrics) {
-    metrics.emplace(bus_name_for(setup), report->stats());
+    metrics.emplace(bus_name, report->stats());
     sinks.add(*metrics);
+  }
+  boost::asio::io_context io;
+  std::optional<SessionMonitor> monitor;
+  if (with_monitor) {
+    monitor.emplace(io, setup.events_path, setup.summary_every, bus_name, report->stats(),
+                    devices.table);
+    if (monitor->sink() != nullptr) sinks.add(*monitor->sink());
   }
   // One decode per frame: the screen and the report read the same device stage.
   dissect::DeviceStage stage(devices.table, sinks, report.has_value());
 
-  boost::asio::io_context io;
   SystemClock clock;
   const std::string& prefix = setup.prefix;
   LiveCapture capture(
@@ -103,9 +114,11 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
       capture.stop();
     }
   });
+  const ReopenOnHangup hangup(io, capture, recorder.get(), prefix);
   std::optional<MetricsEndpoint> endpoint;
   if (metrics) endpoint.emplace(io, setup.metrics_address, *metrics, capture, recorder.get());
   capture.start();
+  if (monitor) monitor->start(capture, recorder.get());
   if (endpoint) fmt::print(stderr, "{}: serving metrics on {}\n", prefix, endpoint->url());
   if (hooks.on_listening) hooks.on_listening(capture);
   {
@@ -114,6 +127,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   }
   signals.cancel();
   out.flush();
+  if (monitor) monitor->stop();
   if (hooks.on_stopped) hooks.on_stopped(capture.summary(), recorder.get());
 
   if (report) {

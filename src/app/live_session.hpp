@@ -25,6 +25,8 @@ struct LiveSessionSetup {
   std::string prefix = "rtuscope";  // of every message on stderr
   std::string bus_name;             // labels metrics ("" = the first port's file name)
   std::string metrics_address;      // serve Prometheus metrics here ("" = nowhere)
+  std::string events_path;          // JSON-lines events ("" = none, "-" = stdout)
+  Nanos summary_every = 0;          // health summaries (0 = none)
 };
 
 // What a command adds to the session. Every hook may be left empty.

@@ -42,6 +42,7 @@ ToolHealth MetricsEndpoint::health() {
     h.recording = true;
     h.capture_bytes = recorder_->bytes_written();
     h.capture_files = recorder_->files().size();
+    h.capture_reopens = recorder_->reopens();
   }
   return h;
 }

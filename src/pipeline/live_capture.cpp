@@ -153,6 +153,9 @@ void LiveCapture::on_port_error(Port& port, const std::error_code& error) {
   port.lost_bytes = true;
   const std::string reason = fmt::format("{}: {}", port.source.config().path, error.message());
   notify_(fmt::format("{}; reopening it when it comes back", reason));
+  if (port_listener_) {
+    port_listener_(PortEvent{false, port.source.config().path, error.message(), port.lost_at});
+  }
   if (recorder_ != nullptr) {
     recorder_->on_gap(port.index, port.lost_at, reason);
     recorder_->flush();
@@ -174,6 +177,7 @@ void LiveCapture::schedule_reopen(Port& port) {
     ++summary_.reconnects;
     notify_(fmt::format("{}: back after {:.1f} s", port.source.config().path,
                         to_seconds(back - port.lost_at)));
+    if (port_listener_) port_listener_(PortEvent{true, port.source.config().path, "", back});
     start_port(port);
   });
 }

@@ -73,8 +73,18 @@ struct LiveSummary {
   Nanos timing_resolution = 0;    // what the reads showed (never below the promise)
 };
 
+// A port lost (unplugged) or back, for the event log.
+struct PortEvent {
+  bool back = false;   // false: lost
+  std::string port;    // its path
+  std::string reason;  // why it was lost ("" when back)
+  Nanos t = 0;         // capture time
+};
+
 class LiveCapture {
  public:
+  using PortListener = std::function<void(const PortEvent& event)>;
+
   // `notify` receives one-line messages for the user (port notes, unplug/replug).
   using Notify = std::function<void(const std::string& message)>;
 
@@ -84,6 +94,7 @@ class LiveCapture {
   LiveCapture(const LiveCapture&) = delete;
   LiveCapture& operator=(const LiveCapture&) = delete;
 
+  void set_port_listener(PortListener listener) { port_listener_ = std::move(listener); }
   // Opens every port (throws SerialOpenError) and starts reading and the timers.
   void start();
   // Stops reading, decides what is pending, flushes. Idempotent.
@@ -110,6 +121,7 @@ class LiveCapture {
   LiveOptions options_;
   ChunkRecorder* recorder_;
   Notify notify_;
+  PortListener port_listener_;
   std::unique_ptr<Counter> counter_;
   std::unique_ptr<DecodePipeline> pipeline_;
   std::vector<std::unique_ptr<Port>> ports_;

@@ -15,6 +15,7 @@
 #include "app/device_options.hpp"
 #include "app/live_session.hpp"
 #include "app/mqtt_options.hpp"
+#include "app/monitoring_options.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/burst_collector.hpp"
 #include "pipeline/replay.hpp"
@@ -33,6 +34,7 @@ struct DemoArgs {
   std::string report;
   unsigned repeat = 1;
   MqttOptions mqtt;
+  MonitoringOptions monitoring;
 };
 
 // The bundled traffic: the simulator's master polling the four documented devices
@@ -87,17 +89,31 @@ void run_demo(DemoArgs& args, int& exit_code) {
   session.report_path = args.report;
   session.always_report = true;  // the demo shows its findings even without --report
   session.prefix = "rtuscope demo";
+  args.monitoring.apply(session);
 
   // The traffic starts once rtuscope listens, and the run ends once it is over; a Ctrl-C
-  // stops the traffic, and the run then ends the same way.
+  // stops the traffic, and the run then ends the same way. With --metrics the run goes on
+  // after the traffic until Ctrl-C (or SIGTERM), so the final counts can still be scraped.
+  const bool serve_until_signal = !args.monitoring.metrics.empty();
+  bool signalled = false;
+  bool said_traffic_over = false;
   std::optional<TrafficPlayer> player;
   LiveSessionHooks hooks;
   hooks.on_listening = [&](const LiveCapture&) {
     player.emplace(std::move(collector.bursts), args.repeat, bus.paths()[0], bus.paths()[1],
                    traffic_info.line.char_time());
   };
-  hooks.finished = [&player] { return player && player->done(); };
-  hooks.on_signal = [&player] {
+  hooks.finished = [&] {
+    if (!player || !player->done()) return false;
+    if (!serve_until_signal || signalled) return true;
+    if (!said_traffic_over) {
+      said_traffic_over = true;
+      fmt::print(stderr, "rtuscope demo: traffic over; still serving metrics (Ctrl-C to stop)\n");
+    }
+    return false;
+  };
+  hooks.on_signal = [&] {
+    signalled = true;
     if (player) player->stop();
   };
   hooks.on_stopped = [&](const LiveSummary& summary, const PcapngRecorder*) {
@@ -135,6 +151,8 @@ void setup_demo(CLI::App& app, int& exit_code) {
   cmd->add_option("--repeat", args->repeat, "Play the traffic this many times (default 1)")
       ->check(CLI::Range(1U, 1000U));
   args->mqtt.add_to(*cmd);
+  args->monitoring.bus_name = "demo";
+  args->monitoring.add_to(*cmd);
   cmd->callback([args, &exit_code] { run_demo(*args, exit_code); });
 }
 

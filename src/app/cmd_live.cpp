@@ -13,7 +13,9 @@
 #include "app/line_options.hpp"
 #include "app/live_session.hpp"
 #include "app/mqtt_options.hpp"
+#include "app/monitoring_options.hpp"
 #include "core/input_error.hpp"
+#include "dissect/map_loader.hpp"
 #include "pipeline/line_warnings.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
@@ -36,6 +38,7 @@ struct LiveArgs {
   std::string report;
   std::string report_format;
   MqttOptions mqtt;
+  MonitoringOptions monitoring;
 };
 
 void print_summary(const LiveSummary& s) {
@@ -54,7 +57,32 @@ void print_summary(const LiveSummary& s) {
   }
 }
 
-void run_live(const LiveArgs& args, int& exit_code) {
+// A bus file's [live] section fills what the command line left out: `rtuscope live --bus
+// FILE` alone starts a configured bus (one service instance per file).
+void apply_bus_file_live(LiveArgs& args) {
+  if (args.devices.bus_file.empty()) return;
+  const dissect::LiveConfig live = dissect::load_bus_file(args.devices.bus_file).live;
+  const auto fill = [](std::string& option, const std::string& from_file) {
+    if (option.empty()) option = from_file;
+  };
+  if (args.ports.empty()) args.ports = live.ports;
+  fill(args.write_path, live.write);
+  fill(args.rotate, live.rotate);
+  if (args.keep == 0 && live.keep) args.keep = *live.keep;
+  fill(args.report, live.report);
+  fill(args.monitoring.metrics, live.metrics);
+  fill(args.monitoring.bus_name, live.bus_name);
+  fill(args.monitoring.events, live.events);
+  fill(args.monitoring.summary_every, live.summary_every);
+}
+
+void run_live(LiveArgs& args, int& exit_code) {
+  apply_bus_file_live(args);
+  if (args.ports.empty()) {
+    throw InputError(
+        "live: no port: give PORT (e.g. /dev/ttyUSB0), or --bus FILE with "
+        "[live] port = \"...\"");
+  }
   // Line settings: the command line, else the --bus file, else Modbus's 9600 8E1.
   ReplayOptions line = args.line.to_replay_options();
   const auto devices = args.devices.build_with_maps(line);
@@ -87,6 +115,7 @@ void run_live(const LiveArgs& args, int& exit_code) {
   session.output = args.output;
   session.report_path = args.report;
   session.report_format = args.report_format;
+  args.monitoring.apply(session);
 
   LiveSessionHooks hooks;
   hooks.on_listening = [&options](const LiveCapture& capture) {
@@ -116,9 +145,9 @@ void setup_live(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("live",
                                  "Decode a serial line live (one port, or two for the "
                                  "two directions of a link)");
-  cmd->add_option("ports", args->ports, "Serial port(s), e.g. /dev/ttyUSB0")
-      ->required()
-      ->expected(1, 2);
+  cmd->add_option("ports", args->ports,
+                  "Serial port(s), e.g. /dev/ttyUSB0 (default: the --bus file's [live] port)")
+      ->expected(0, 2);
   args->line.add_to(*cmd, false);
   args->devices.add_to(*cmd);
   cmd->add_option("--format", args->format, "Output format")
@@ -140,6 +169,7 @@ void setup_live(CLI::App& app, int& exit_code) {
                   "Report format (default: from the file name: .html, .json, else text)")
       ->check(CLI::IsMember(format_names(report_formats())));
   args->mqtt.add_to(*cmd);
+  args->monitoring.add_to(*cmd);
   cmd->callback([args, &exit_code] { run_live(*args, exit_code); });
 }
 

@@ -7,14 +7,19 @@
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 
+#include "app/metrics_endpoint.hpp"
 #include "app/record_writer.hpp"
+#include "app/reopen_on_hangup.hpp"
 #include "app/run_report.hpp"
+#include "app/session_monitor.hpp"
+#include "core/input_error.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -54,6 +59,13 @@ class FinishWatch {
   LiveCapture& capture_;
 };
 
+// The bus's name in metrics: the one given, else the first port's file name ("ttyUSB0").
+std::string bus_name_for(const LiveSessionSetup& setup) {
+  if (!setup.bus_name.empty()) return setup.bus_name;
+  if (setup.capture.ports.empty()) return "bus";
+  return std::filesystem::path(setup.capture.ports.front()).filename().string();
+}
+
 }  // namespace
 
 void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
@@ -74,16 +86,31 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   std::optional<RunReport> report;
   std::optional<OutputStream> report_out;  // opened now: a bad path fails before the run
   if (!setup.report_path.empty()) report_out.emplace(setup.report_path);
-  if (report_out || setup.always_report) {
+  // Metrics, events and summaries read the report's statistics: such a run gathers them too.
+  const bool with_metrics = !setup.metrics_address.empty();
+  const bool with_monitor = !setup.events_path.empty() || setup.summary_every > 0;
+  if (report_out || setup.always_report || with_metrics || with_monitor) {
     report.emplace(devices);
     sinks.add(report->sink());
   }
   for (RecordSink* sink : setup.extra_sinks) sinks.add(*sink);
+  const std::string bus_name = bus_name_for(setup);
+  std::optional<BusMetrics> metrics;
+  if (with_metrics) {
+    metrics.emplace(bus_name, report->stats());
+    sinks.add(*metrics);
+  }
+  boost::asio::io_context io;
+  std::optional<SessionMonitor> monitor;
+  if (with_monitor) {
+    monitor.emplace(io, setup.events_path, setup.summary_every, bus_name, report->stats(),
+                    devices.table);
+    if (monitor->sink() != nullptr) sinks.add(*monitor->sink());
+  }
   // One decode per frame: the screen and the report read the same device stage.
   dissect::DeviceStage stage(devices.table, sinks,
                              report.has_value() || !setup.extra_sinks.empty());
 
-  boost::asio::io_context io;
   SystemClock clock;
   const std::string& prefix = setup.prefix;
   LiveCapture capture(io, clock, setup.capture, stage, chunk_recorder,
@@ -103,7 +130,12 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
       capture.stop();
     }
   });
+  const ReopenOnHangup hangup(io, capture, recorder.get(), prefix);
+  std::optional<MetricsEndpoint> endpoint;
+  if (metrics) endpoint.emplace(io, setup.metrics_address, *metrics, capture, recorder.get());
   capture.start();
+  if (monitor) monitor->start(capture, recorder.get());
+  if (endpoint) fmt::print(stderr, "{}: serving metrics on {}\n", prefix, endpoint->url());
   if (hooks.on_listening) hooks.on_listening(capture);
   {
     const FinishWatch watch(io, hooks.finished, hooks.periodic, capture);
@@ -111,11 +143,12 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   }
   signals.cancel();
   out.flush();
+  if (monitor) monitor->stop();
   if (hooks.on_stopped) hooks.on_stopped(capture.summary(), recorder.get());
 
   if (report) {
     report->finish();
-    report->print_findings(stderr, 3);
+    if (report_out || setup.always_report) report->print_findings(stderr, 3);
     if (report_out) {
       report->write(*report_out, setup.report_format.empty() ? report_format_for(setup.report_path)
                                                              : setup.report_format);

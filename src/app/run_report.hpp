@@ -30,6 +30,8 @@ class RunReport {
   // Identifies unnamed slaves and ranks the findings; call once, after the run stopped.
   void finish();
   [[nodiscard]] const std::vector<Finding>& findings() const { return findings_; }
+  // The statistics gathered so far (what the metrics render between two records).
+  [[nodiscard]] const TrafficStats& stats() const { return stats_; }
 
   // Writes the whole report as `format` ("text", "json" or "html").
   void write(OutputStream& out, const std::string& format) const;

@@ -15,8 +15,8 @@ void MemoryOutput::write(std::span<const std::uint8_t> unit) {
   bytes_.insert(bytes_.end(), unit.begin(), unit.end());
 }
 
-FileOutput::FileOutput(std::string path) : path_(std::move(path)) {
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+FileOutput::FileOutput(std::string path, bool append) : path_(std::move(path)) {
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | (append ? O_APPEND : O_TRUNC) | O_CLOEXEC, 0644);
   if (fd_ < 0) {
     throw InputError(fmt::format("{}: cannot create: {}", path_, std::strerror(errno)));
   }

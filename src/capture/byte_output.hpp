@@ -35,7 +35,8 @@ class MemoryOutput final : public ByteOutput {
 // destruction. Throws InputError naming the path if it cannot be created or written.
 class FileOutput final : public ByteOutput {
  public:
-  explicit FileOutput(std::string path);
+  // Creates (or truncates) the file; with `append`, keeps what it holds and writes after it.
+  explicit FileOutput(std::string path, bool append = false);
   ~FileOutput() override;
   FileOutput(const FileOutput&) = delete;
   FileOutput& operator=(const FileOutput&) = delete;

@@ -15,12 +15,28 @@ struct SlaveModel {
   std::string model;
 };
 
+// [live]: how `rtuscope live --bus FILE` watches this bus when the command line does not say
+// (a service runs one bus per file). Values are checked where they are used, as the options
+// of the same names are; empty = not given.
+struct LiveConfig {
+  std::vector<std::string> ports;   // one, or two for the two directions of a link
+  std::string bus_name;             // --bus-name
+  std::string write;                // -w
+  std::string rotate;               // --rotate
+  std::optional<std::size_t> keep;  // --keep
+  std::string metrics;              // --metrics
+  std::string events;               // --events
+  std::string summary_every;        // --summary-every
+  std::string report;               // --report
+};
+
 struct BusConfig {
   std::optional<std::uint32_t> baud;
   std::optional<Parity> parity;
   std::optional<std::uint8_t> stop_bits;
   std::optional<std::uint32_t> timeout_ms;
   std::vector<SlaveModel> slaves;
+  LiveConfig live;
 };
 
 }  // namespace rtu::dissect

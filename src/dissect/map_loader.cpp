@@ -675,6 +675,56 @@ MapLoadResult load_map_file(const std::string& path) {
   return result;
 }
 
+namespace {
+
+// [live] of a bus file: strings, a port or a list of one or two ports, and `keep`.
+template <typename Fail>
+void read_live_section(const toml::table& t, LiveConfig& live, Fail& fail) {
+  const std::pair<std::string_view, std::string*> texts[] = {
+      {"bus_name", &live.bus_name}, {"write", &live.write},
+      {"rotate", &live.rotate},     {"metrics", &live.metrics},
+      {"events", &live.events},     {"summary_every", &live.summary_every},
+      {"report", &live.report}};
+  for (auto&& [k, v] : t) {
+    bool known = false;
+    for (const auto& [name, target] : texts) {
+      if (k.str() != name) continue;
+      known = true;
+      const auto* s = v.as_string();
+      if (s == nullptr || s->get().empty()) {
+        fail(v, fmt::format("[live] {} must be a non-empty string", name));
+      }
+      *target = s->get();
+    }
+    if (known) continue;
+    if (k.str() == "port") {
+      if (const auto* s = v.as_string()) {
+        live.ports = {s->get()};
+      } else if (const auto* a = v.as_array(); a != nullptr && !a->empty() && a->size() <= 2) {
+        live.ports.clear();
+        for (auto&& p : *a) {
+          if (!p.is_string()) fail(p, "[live] port must be a path or a list of one or two");
+          live.ports.push_back(p.as_string()->get());
+        }
+      } else {
+        fail(v, "[live] port must be a path or a list of one or two");
+      }
+    } else if (k.str() == "keep") {
+      const auto* i = v.as_integer();
+      if (i == nullptr || i->get() < 0 || i->get() > 1000000) {
+        fail(v, "[live] keep must be an integer 0..1000000");
+      }
+      live.keep = static_cast<std::size_t>(i->get());
+    } else {
+      fail(v, fmt::format("unknown key '{}' in [live] (allowed: port, bus_name, write, rotate, "
+                          "keep, metrics, events, summary_every, report)",
+                          k.str()));
+    }
+  }
+}
+
+}  // namespace
+
 BusConfig load_bus_text(std::string_view text, std::string_view file_name) {
   const std::string file(file_name);
   toml::table root;
@@ -734,9 +784,13 @@ BusConfig load_bus_text(std::string_view text, std::string_view file_name) {
         }
         bus.slaves.push_back({static_cast<std::uint8_t>(*addr), s->get()});
       }
+    } else if (key.str() == "live") {
+      const auto* t = node.as_table();
+      if (t == nullptr) fail(node, "[live] must be a table");
+      read_live_section(*t, bus.live, fail);
     } else {
-      fail(node,
-           fmt::format("unknown key '{}' at the top level (allowed: line, slaves)", key.str()));
+      fail(node, fmt::format("unknown key '{}' at the top level (allowed: line, slaves, live)",
+                             key.str()));
     }
   }
   return bus;

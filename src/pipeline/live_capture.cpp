@@ -138,6 +138,7 @@ void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   }
   ++summary_.chunks;
   summary_.bytes += chunk.bytes.size();
+  if (!chunk.bytes.empty()) summary_.last_byte_at = chunk.t_end;
   for (const auto e : chunk.errors) {
     if (e != kLineOk) ++summary_.line_error_bytes;
   }
@@ -152,6 +153,9 @@ void LiveCapture::on_port_error(Port& port, const std::error_code& error) {
   port.lost_bytes = true;
   const std::string reason = fmt::format("{}: {}", port.source.config().path, error.message());
   notify_(fmt::format("{}; reopening it when it comes back", reason));
+  if (port_listener_) {
+    port_listener_(PortEvent{false, port.source.config().path, error.message(), port.lost_at});
+  }
   if (recorder_ != nullptr) {
     recorder_->on_gap(port.index, port.lost_at, reason);
     recorder_->flush();
@@ -170,8 +174,10 @@ void LiveCapture::schedule_reopen(Port& port) {
       return;
     }
     const Nanos back = clock_.now();
+    ++summary_.reconnects;
     notify_(fmt::format("{}: back after {:.1f} s", port.source.config().path,
                         to_seconds(back - port.lost_at)));
+    if (port_listener_) port_listener_(PortEvent{true, port.source.config().path, "", back});
     start_port(port);
   });
 }

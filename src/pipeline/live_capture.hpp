@@ -66,13 +66,25 @@ struct LiveSummary {
   std::uint64_t frames_with_issues = 0;
   std::uint64_t line_error_bytes = 0;
   std::uint64_t disconnects = 0;
+  std::uint64_t reconnects = 0;       // ports opened again after a disconnect
+  Nanos last_byte_at = kUnknownTime;  // capture time of the last read that had bytes
   Nanos duration = 0;
   Nanos declared_resolution = 0;  // what the ports promised when opened
   Nanos timing_resolution = 0;    // what the reads showed (never below the promise)
 };
 
+// A port lost (unplugged) or back, for the event log.
+struct PortEvent {
+  bool back = false;   // false: lost
+  std::string port;    // its path
+  std::string reason;  // why it was lost ("" when back)
+  Nanos t = 0;         // capture time
+};
+
 class LiveCapture {
  public:
+  using PortListener = std::function<void(const PortEvent& event)>;
+
   // `notify` receives one-line messages for the user (port notes, unplug/replug).
   using Notify = std::function<void(const std::string& message)>;
 
@@ -82,6 +94,7 @@ class LiveCapture {
   LiveCapture(const LiveCapture&) = delete;
   LiveCapture& operator=(const LiveCapture&) = delete;
 
+  void set_port_listener(PortListener listener) { port_listener_ = std::move(listener); }
   // Opens every port (throws SerialOpenError) and starts reading and the timers.
   void start();
   // Stops reading, decides what is pending, flushes. Idempotent.
@@ -89,6 +102,8 @@ class LiveCapture {
   [[nodiscard]] bool stopped() const { return stopped_; }
   [[nodiscard]] const LiveSummary& summary() const { return summary_; }
   [[nodiscard]] const CaptureInfo& info() const { return info_; }
+  // Capture time now, on the clock the chunks are stamped with (ns since 1970).
+  [[nodiscard]] Nanos now() { return clock_.now(); }
 
  private:
   class Counter;
@@ -106,6 +121,7 @@ class LiveCapture {
   LiveOptions options_;
   ChunkRecorder* recorder_;
   Notify notify_;
+  PortListener port_listener_;
   std::unique_ptr<Counter> counter_;
   std::unique_ptr<DecodePipeline> pipeline_;
   std::vector<std::unique_ptr<Port>> ports_;

@@ -84,7 +84,7 @@ void PcapngRecorder::add_port(std::size_t port, const std::string& name, const L
   }
 }
 
-void PcapngRecorder::open_file(Nanos t) {
+void PcapngRecorder::open_file(Nanos t, bool append) {
   std::string path = path_;
   if (rotation_.max_bytes != 0 || rotation_.max_age != 0) {
     const std::filesystem::path p(path_);
@@ -94,7 +94,7 @@ void PcapngRecorder::open_file(Nanos t) {
   }
   if (writer_) writer_->flush();
   writer_ = std::make_unique<PcapngWriter>(given_output_ ? std::move(given_output_)
-                                                         : std::make_unique<FileOutput>(path));
+                                                         : std::make_unique<FileOutput>(path, append));
   interfaces_.clear();
   for (const auto& port : ports_) {
     interfaces_.push_back(
@@ -102,13 +102,28 @@ void PcapngRecorder::open_file(Nanos t) {
   }
   file_bytes_ = 0;
   file_started_ = t;
-  all_files_.push_back(path);
-  kept_files_.push_back(path);
+  if (!append || all_files_.empty() || all_files_.back() != path) {
+    all_files_.push_back(path);
+    kept_files_.push_back(path);
+  }
   while (rotation_.keep != 0 && kept_files_.size() > rotation_.keep) {
     std::error_code ec;
     std::filesystem::remove(kept_files_.front(), ec);
     kept_files_.pop_front();
   }
+  if (file_listener_) file_listener_(path, t);
+}
+
+void PcapngRecorder::reopen(Nanos t) {
+  ++reopens_;
+  if (!writer_) return;  // nothing written yet: the first read opens the file anyway
+  const bool rotating = rotation_.max_bytes != 0 || rotation_.max_age != 0;
+  open_file(t, !rotating);
+}
+
+void PcapngRecorder::add_comment(Nanos t, std::string_view text) {
+  if (ports_.empty()) return;
+  write(0, t, RtacEvent::kStatusChange, {}, text);
 }
 
 void PcapngRecorder::maybe_rotate(Nanos t) {
@@ -131,6 +146,7 @@ void PcapngRecorder::write(std::size_t port, Nanos t, RtacEvent event,
   if (ports_.size() == 2) meta.flags = port == 0 ? pcap::kFlagsOutbound : pcap::kFlagsInbound;
   writer_->write_packet(interfaces_.at(port), t, buffer_, meta);
   file_bytes_ += kRecordOverhead + buffer_.size() + comment.size();
+  bytes_written_ += kRecordOverhead + buffer_.size() + comment.size();
   ++records_;
 }
 

@@ -21,6 +21,7 @@
 // set (capture/capture_set_reader.hpp) decode exactly as one file would.
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,8 +42,18 @@ struct RotationPolicy {
 // Throws InputError naming the option when the text is neither.
 RotationPolicy parse_rotation(const std::string& text);
 
+// SIGHUP (reopen()): for external log rotation, the recording goes on in a new file at the
+// same path: the file is opened again in append mode and a new pcapng section (header and
+// interfaces) starts, so a file that was not moved away stays one valid capture. With
+// --rotate, reopen() starts the next numbered file instead.
+//
+// Comments (add_comment()) are STATUS_CHANGE records without bytes carrying a pcapng
+// comment: Wireshark shows them, and replays skip them (no bytes, no error flags).
 class PcapngRecorder final : public ChunkRecorder {
  public:
+  // Told each time a file starts (the first one included): its path and capture time.
+  using FileListener = std::function<void(const std::string& path, Nanos t)>;
+
   // Throws InputError when the file cannot be created.
   PcapngRecorder(std::string path, RotationPolicy rotation = {});
   // Records into `output` (a pipe to a live reader), named `name` in files(); no rotation.
@@ -56,15 +67,24 @@ class PcapngRecorder final : public ChunkRecorder {
   void on_end(Nanos t) override;
   void flush() override;
 
+  // Starts a new file (see above) at capture time `t`; throws InputError when it cannot.
+  void reopen(Nanos t);
+  // A comment in the capture at `t` (health summaries), on the first port's interface.
+  void add_comment(Nanos t, std::string_view text);
+  void set_file_listener(FileListener listener) { file_listener_ = std::move(listener); }
+
   [[nodiscard]] std::uint64_t records() const { return records_; }
+  [[nodiscard]] std::uint64_t reopens() const { return reopens_; }
   [[nodiscard]] const std::vector<std::string>& files() const { return all_files_; }
+  // Bytes written so far, every file together.
+  [[nodiscard]] std::uint64_t bytes_written() const { return bytes_written_; }
 
  private:
   struct PortInfo {
     std::string name;
     std::string description;
   };
-  void open_file(Nanos t);
+  void open_file(Nanos t, bool append = false);
   void maybe_rotate(Nanos t);
   void write(std::size_t port, Nanos t, RtacEvent event, std::span<const std::uint8_t> bytes,
              std::string_view comment);
@@ -79,6 +99,9 @@ class PcapngRecorder final : public ChunkRecorder {
   std::deque<std::string> kept_files_;
   std::vector<std::string> all_files_;
   std::uint64_t file_bytes_ = 0;
+  std::uint64_t bytes_written_ = 0;
+  std::uint64_t reopens_ = 0;
+  FileListener file_listener_;
   Nanos file_started_ = kUnknownTime;
   std::uint64_t file_index_ = 0;
   std::uint64_t records_ = 0;

@@ -28,6 +28,11 @@ bool is_damaged(const Record& frame) {
          frame.issues.has(IssueId::kBreak) || frame.issues.has(IssueId::kOverrun);
 }
 
+bool counts_latency(const Record& response) {
+  return response.role == Role::kResponse && response.latency != kUnknownTime &&
+         !response.issues.has(IssueId::kWrongSlave) && response.crc_ok;
+}
+
 void LineErrorCounts::add(std::uint8_t line_errors) {
   ++records;
   if ((line_errors & kParityError) != 0) ++parity;
@@ -361,7 +366,7 @@ void TrafficStats::count_response(const Record& r) {
     ++s.exception_codes[*code];
   }
   if ((unsolicited || wrong_slave) && timed_out_slave_ == r.slave()) ++s.after_next_request;
-  if (r.latency != kUnknownTime && !wrong_slave && r.crc_ok) {
+  if (counts_latency(r)) {
     s.latency.add(r.latency);
     for (std::size_t i = 0; i < kCandidateTimeoutsMs.size(); ++i) {
       if (r.latency > kCandidateTimeoutsMs[i] * kNanosPerMilli) ++s.lost_at[i];

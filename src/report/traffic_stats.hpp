@@ -42,6 +42,10 @@ std::string_view length_class_name(std::size_t cls);  // "<16", "16-63", ...
 // overrun on its bytes): a slave's receiver drops such a request instead of answering it.
 bool is_damaged(const Record& frame);
 
+// Whether a response's latency counts in its slave's latency statistics: a measured latency
+// on an intact response from the slave that was asked. The report and the metrics share it.
+bool counts_latency(const Record& response);
+
 // Records with parity/framing/break/overrun errors, and which errors they carry.
 struct LineErrorCounts {
   std::uint64_t records = 0;

@@ -32,10 +32,10 @@ struct LiveSessionSetup {
   // Also get every record, after the frames are written, with the device points' values
   // (e.g. the MQTT feed). Not owned.
   std::vector<RecordSink*> extra_sinks;
-  std::string bus_name;             // labels metrics ("" = the first port's file name)
-  std::string metrics_address;      // serve Prometheus metrics here ("" = nowhere)
-  std::string events_path;          // JSON-lines events ("" = none, "-" = stdout)
-  Nanos summary_every = 0;          // health summaries (0 = none)
+  std::string bus_name;         // labels metrics ("" = the first port's file name)
+  std::string metrics_address;  // serve Prometheus metrics here ("" = nowhere)
+  std::string events_path;      // JSON-lines events ("" = none, "-" = stdout)
+  Nanos summary_every = 0;      // health summaries (0 = none)
 };
 
 // What a command adds to the session. Every hook may be left empty.

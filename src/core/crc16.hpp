@@ -1,6 +1,7 @@
 #pragma once
 // CRC-16/MODBUS (reflected poly 0x8005 = 0xA001, init 0xFFFF, no final xor), appended to
 // an ADU low byte first. Running it over a whole ADU including its CRC yields 0.
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -8,8 +9,27 @@ namespace rtu {
 
 inline constexpr std::uint16_t kCrcInit = 0xFFFF;
 
-// Continues a CRC over more bytes; start with kCrcInit.
-std::uint16_t crc16_update(std::uint16_t crc, std::uint8_t byte);
+namespace crc_detail {
+constexpr std::array<std::uint16_t, 256> make_table() {
+  std::array<std::uint16_t, 256> table{};
+  for (unsigned i = 0; i < 256; ++i) {
+    auto crc = static_cast<std::uint16_t>(i);
+    for (int bit = 0; bit < 8; ++bit) {
+      crc = (crc & 1U) != 0 ? static_cast<std::uint16_t>((crc >> 1U) ^ 0xA001U)
+                            : static_cast<std::uint16_t>(crc >> 1U);
+    }
+    table[i] = crc;
+  }
+  return table;
+}
+inline constexpr std::array<std::uint16_t, 256> kTable = make_table();
+}  // namespace crc_detail
+
+// Continues a CRC over one more byte; start with kCrcInit. Inline: the framer's CRC scans
+// call it for every byte of every candidate length.
+inline std::uint16_t crc16_update(std::uint16_t crc, std::uint8_t byte) {
+  return static_cast<std::uint16_t>((crc >> 8U) ^ crc_detail::kTable[(crc ^ byte) & 0xFFU]);
+}
 std::uint16_t crc16(std::span<const std::uint8_t> bytes, std::uint16_t crc = kCrcInit);
 
 // True when the last two bytes are the CRC of the bytes before them.

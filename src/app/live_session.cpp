@@ -76,6 +76,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   std::unique_ptr<PcapngRecorder> recorder;
   if (!setup.record_path.empty()) {
     recorder = std::make_unique<PcapngRecorder>(setup.record_path, setup.rotation);
+    recorder->set_bus_name(bus_name_for(setup));
   }
   ChunkRecorder* const chunk_recorder =
       setup.chunk_recorder != nullptr ? setup.chunk_recorder : recorder.get();

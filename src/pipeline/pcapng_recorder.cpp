@@ -76,6 +76,7 @@ void PcapngRecorder::add_port(std::size_t port, const std::string& name, const L
   ports_[port].description = fmt::format(
       "RS-485 {}; rtuscope live; timing resolution {}; response timeout {}", line.describe(),
       milliseconds_text(status.resolution), milliseconds_text(response_timeout));
+  if (!bus_name_.empty()) ports_[port].description += fmt::format("; bus {}", bus_name_);
   if (writer_) {
     // A port added late (never happens in LiveCapture, which adds all first).
     interfaces_.resize(ports_.size());
@@ -93,8 +94,8 @@ void PcapngRecorder::open_file(Nanos t, bool append) {
                .string();
   }
   if (writer_) writer_->flush();
-  writer_ = std::make_unique<PcapngWriter>(given_output_ ? std::move(given_output_)
-                                                         : std::make_unique<FileOutput>(path, append));
+  writer_ = std::make_unique<PcapngWriter>(
+      given_output_ ? std::move(given_output_) : std::make_unique<FileOutput>(path, append));
   interfaces_.clear();
   for (const auto& port : ports_) {
     interfaces_.push_back(

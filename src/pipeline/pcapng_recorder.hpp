@@ -2,7 +2,8 @@
 // Records a live capture as pcapng, chunk by chunk, exactly as read (FORMATS §2, §4):
 //  * one LINKTYPE_RTAC_SERIAL (250) interface per port, ns timestamps, if_name = the port,
 //    if_description = "RS-485 <baud> 8<parity><stop>; rtuscope live; timing resolution <r>;
-//    response timeout <t>" (what a replay needs to decode it the same way);
+//    response timeout <t>[; bus <name>]" (what a replay needs to decode it the same way, and
+//    which bus it is);
 //  * every read as DATA_RX_START (with two ports: the first as DATA_TX_START, epb_flags
 //    outbound, the second as DATA_RX_START, inbound), time = its read completion; where
 //    line errors mark bytes, the read is split into PARITY_ERROR / FRAMING_ERROR /
@@ -24,6 +25,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "capture/pcapng_writer.hpp"
@@ -60,6 +62,9 @@ class PcapngRecorder final : public ChunkRecorder {
   PcapngRecorder(std::unique_ptr<ByteOutput> output, std::string name);
   ~PcapngRecorder() override;
 
+  // The bus's name (live --bus-name), added to every interface description added after it
+  // ("...; bus boiler-room"), so a recording says which bus it is.
+  void set_bus_name(std::string name) { bus_name_ = std::move(name); }
   void add_port(std::size_t port, const std::string& name, const LineSettings& line,
                 const SerialStatus& status, Nanos response_timeout) override;
   void on_chunk(std::size_t port, const Chunk& chunk) override;
@@ -91,6 +96,7 @@ class PcapngRecorder final : public ChunkRecorder {
 
   std::string path_;
   RotationPolicy rotation_;
+  std::string bus_name_;
   std::vector<PortInfo> ports_;
   std::unique_ptr<PcapngWriter> writer_;
   std::unique_ptr<ByteOutput> given_output_;  // used instead of a file at path_, once

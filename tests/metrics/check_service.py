@@ -151,6 +151,10 @@ def main():
                      if line.strip() and json.loads(line).get("kind") == "frame")
         if decoded.returncode != 0 or frames != requests:
             fail(f"the recording decodes to {frames} frames ({decoded.stderr}), sent {requests}")
+        # The recording names its bus in the interface description, as Wireshark shows it.
+        with open(recording, "rb") as f:
+            if b"; bus line-9" not in f.read():
+                fail("the recording's interface description does not name the bus line-9")
         print(f"live --bus alone: {requests} frames in /metrics and in the recording, "
               f"SIGHUP rotated, events {kinds}")
         print("passed")

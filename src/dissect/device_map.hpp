@@ -59,6 +59,11 @@ struct Point {
   // Registers that follow the point, travel with it, and carry no documented meaning
   // (TH900 "type 3" points): shown raw, flagged when not zero.
   std::uint16_t spare = 0;
+  // Home Assistant classes for MQTT discovery where the map states them. Unset: the unit's
+  // (dissectors/home_assistant/sensor_classes.toml); "": none, whatever the unit says.
+  // state_class, when set and not empty, is measurement, total or total_increasing.
+  std::optional<std::string> device_class;
+  std::optional<std::string> state_class;
   std::string doc;
   std::uint32_t line = 0;  // where it was defined, for messages
 

@@ -35,6 +35,7 @@ void append_named(const Record& frame, const std::vector<DecodedPoint>& points,
     v.value = to_decimals(p.value, p.point->decimals);
     v.unit = p.point->unit;
     v.key = reinterpret_cast<std::uintptr_t>(p.point);
+    v.definition = p.point;
     out.push_back(v);
   }
 }

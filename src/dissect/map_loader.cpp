@@ -11,6 +11,7 @@
 
 #include "core/function_codes.hpp"
 #include "core/input_error.hpp"
+#include "dissect/sensor_classes.hpp"
 #include "modbus/data_access.hpp"
 
 namespace rtu::dissect {
@@ -24,8 +25,9 @@ constexpr std::string_view kDeviceKeys[] = {"model",  "name", "vendor",
 constexpr std::string_view kSpaceKeys[] = {"functions", "addressing", "doc", "point"};
 constexpr std::string_view kVarKeys[] = {"default", "doc"};
 constexpr std::string_view kPointKeys[] = {
-    "addr",     "name",     "type",  "word_order", "access", "scale", "offset", "unit",
-    "decimals", "scale_by", "learn", "enum",       "bits",   "range", "spare",  "doc"};
+    "addr",   "name",  "type",     "word_order",   "access",      "scale",
+    "offset", "unit",  "decimals", "scale_by",     "learn",       "enum",
+    "bits",   "range", "spare",    "device_class", "state_class", "doc"};
 constexpr std::string_view kBitKeys[] = {"bit", "width", "name", "doc"};
 
 std::string join(Keys keys) {
@@ -35,6 +37,16 @@ std::string join(Keys keys) {
     out += k;
   }
   return out;
+}
+
+// Home Assistant's device classes are snake_case words ("voltage", "power_factor"). The
+// list grows with its releases, so only the spelling is checked: a typo such as "Voltage"
+// is caught, an unknown class is left to Home Assistant.
+bool is_device_class(std::string_view s) {
+  if (s.empty() || s.front() == '_' || s.back() == '_') return false;
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
 }
 
 bool is_model_key(std::string_view s) {
@@ -471,6 +483,7 @@ class Loader {
       }
       p.spare = static_cast<std::uint16_t>(*spare);
     }
+    read_classes(t, p, where);
     p.doc = get_string(t, "doc", where, false).value_or("");
     if (space.addressing == Addressing::kByte && p.value_bytes() >= 2 && (p.addr % 2) != 0) {
       error(*t.get("addr"), fmt::format("{}: a {}-bit point in a byte-addressed space must "
@@ -533,6 +546,30 @@ class Loader {
         error(*t.get("learn"), fmt::format("{}: learn refers to '{}', which no [var.{}] "
                                            "declares",
                                            where, *learn, *learn));
+      }
+    }
+  }
+
+  // An empty class is kept: it says "none" where the unit would give one.
+  void read_classes(const toml::table& t, Point& p, std::string_view where) {
+    if (auto device_class = get_string(t, "device_class", where, false)) {
+      if (!device_class->empty() && !is_device_class(*device_class)) {
+        error(*t.get("device_class"),
+              fmt::format("{}: device_class '{}' must be a Home Assistant sensor device class, "
+                          "lowercase letters, digits and '_' (e.g. \"voltage\"), or \"\" for none",
+                          where, *device_class));
+      } else {
+        p.device_class = std::move(device_class);
+      }
+    }
+    if (auto state_class = get_string(t, "state_class", where, false)) {
+      if (!state_class->empty() && !is_state_class(*state_class)) {
+        error(*t.get("state_class"),
+              fmt::format("{}: state_class '{}' is not one of: measurement, total, "
+                          "total_increasing (or \"\" for none)",
+                          where, *state_class));
+      } else {
+        p.state_class = std::move(state_class);
       }
     }
   }

@@ -9,6 +9,8 @@
 
 namespace rtu::dissect {
 
+struct Point;  // device_map.hpp
+
 struct PointValue {
   Nanos t = 0;  // start of the frame that carried the value
   std::uint8_t slave = 0;
@@ -18,6 +20,9 @@ struct PointValue {
   // Which point of its slave this is, for fast lookups: equal keys mean equal names (a raw
   // table and address, or the device map's point definition). 0 = not known.
   std::uint64_t key = 0;
+  // The device map's definition of a named point (classes for MQTT discovery); null for raw
+  // values.
+  const Point* definition = nullptr;
 };
 
 // The key of a raw value: the table's number and the address, with a bit no pointer sets.

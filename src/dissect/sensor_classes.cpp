@@ -19,6 +19,10 @@ std::string where(std::string_view file, const toml::node& node) {
 
 }  // namespace
 
+bool is_state_class(std::string_view text) {
+  return text == "measurement" || text == "total" || text == "total_increasing";
+}
+
 SensorClasses SensorClasses::load_text(std::string_view text, std::string_view file_name) {
   toml::table root;
   try {
@@ -55,8 +59,7 @@ SensorClasses SensorClasses::load_text(std::string_view text, std::string_view f
                                        where(file_name, value), field.str()));
         }
       }
-      if (sensor.state_class != "measurement" && sensor.state_class != "total" &&
-          sensor.state_class != "total_increasing") {
+      if (!is_state_class(sensor.state_class)) {
         throw InputError(fmt::format(
             "{}: unit.\"{}\": state_class must be measurement, total or total_increasing",
             where(file_name, entry), unit.str()));

@@ -13,6 +13,9 @@ struct SensorClass {
   std::string state_class;   // measurement, total or total_increasing
 };
 
+// measurement, total or total_increasing: the state classes Home Assistant knows.
+[[nodiscard]] bool is_state_class(std::string_view text);
+
 class SensorClasses {
  public:
   // Throws InputError "file:line: what" for a file that cannot be read, bad TOML, an

@@ -4,6 +4,7 @@
 
 #include "core/json_writer.hpp"
 #include "core/time_format.hpp"
+#include "dissect/device_map.hpp"
 #include "dissect/device_stage.hpp"
 
 namespace rtu {
@@ -85,7 +86,7 @@ void MqttFeed::on_record(Record& record) {
     // Named points only: raw registers of a slave without a map mean nothing to a user.
     if (record.device != nullptr && record.device->map != nullptr) {
       for (const auto& value : record.device->values) {
-        point_value(record, value.point, value.value, value.unit);
+        point_value(record, value);
       }
     }
   }
@@ -113,18 +114,18 @@ void MqttFeed::slave_status(std::uint8_t slave, bool online) {
   publish_({fmt::format("{}/{}/status", base_, slave), online ? "online" : "offline", true});
 }
 
-void MqttFeed::point_value(const Record& record, std::string_view point, double value,
-                           std::string_view unit) {
+void MqttFeed::point_value(const Record& record, const dissect::PointValue& sample) {
   const std::uint8_t slave = record.slave();
-  const std::string topic = fmt::format("{}/{}/{}", base_, slave, mqtt_id(point));
+  const std::string topic = fmt::format("{}/{}/{}", base_, slave, mqtt_id(sample.point));
+  const double value = sample.value;
   auto it = points_.find(topic);
   if (it == points_.end()) {
     PointState state;
     state.topic = topic;
-    state.unit = std::string(unit);
+    state.unit = std::string(sample.unit);
     if (record.device->map != nullptr) state.model = record.device->map->model;
     it = points_.emplace(topic, std::move(state)).first;
-    if (options_.discovery) send_discovery(slave, point, it->second, record);
+    if (options_.discovery) send_discovery(slave, sample, it->second, record);
   }
   PointState& state = it->second;
   state.value = value;
@@ -164,8 +165,9 @@ void MqttFeed::send_due(Nanos now) {
   }
 }
 
-void MqttFeed::send_discovery(std::uint8_t slave, std::string_view point, const PointState& state,
-                              const Record& record) {
+void MqttFeed::send_discovery(std::uint8_t slave, const dissect::PointValue& sample,
+                              const PointState& state, const Record& record) {
+  const std::string_view point = sample.point;
   const std::string bus = mqtt_id(options_.bus);
   const std::string device_id = fmt::format("rtuscope_{}_{}", bus, slave);
   const std::string object_id = mqtt_id(point);
@@ -178,14 +180,21 @@ void MqttFeed::send_discovery(std::uint8_t slave, std::string_view point, const 
   json.field("unique_id", std::string_view(fmt::format("{}_{}", device_id, object_id)));
   json.field("value_template", "{{ value_json.value }}");
   if (!state.unit.empty()) json.field("unit_of_measurement", std::string_view(state.unit));
-  const dissect::SensorClass* sensor =
+  // Each class from the point's map where it says one ("" = none), else from the unit.
+  const dissect::SensorClass* by_unit =
       options_.classes != nullptr ? options_.classes->for_unit(state.unit) : nullptr;
-  if (sensor != nullptr) {
-    if (!sensor->device_class.empty()) {
-      json.field("device_class", std::string_view(sensor->device_class));
-    }
-    json.field("state_class", std::string_view(sensor->state_class));
+  std::string_view device_class;
+  std::string_view state_class;
+  if (by_unit != nullptr) {
+    device_class = by_unit->device_class;
+    state_class = by_unit->state_class;
   }
+  if (const dissect::Point* def = sample.definition; def != nullptr) {
+    if (def->device_class) device_class = *def->device_class;
+    if (def->state_class) state_class = *def->state_class;
+  }
+  if (!device_class.empty()) json.field("device_class", device_class);
+  if (!state_class.empty()) json.field("state_class", state_class);
   json.field("availability_topic", std::string_view(fmt::format("{}/{}/status", base_, slave)));
   json.key("device");
   json.begin_object();

@@ -16,7 +16,8 @@
 //   status           "online"/"offline" for rtuscope itself (set by the client, as last will)
 // With discovery, before a point's first value: a retained Home Assistant sensor config at
 // <prefix>/sensor/rtuscope_<bus>_<slave>/<point>/config, with the unit, and device_class and
-// state_class for the unit from SensorClasses; one device per slave.
+// state_class: each as the point's device map states it, else the unit's from SensorClasses;
+// one device per slave.
 //
 // Times are the records' (capture time), so a replay would publish the same.
 #include <cstdint>
@@ -27,6 +28,7 @@
 #include <utility>
 
 #include "core/time.hpp"
+#include "dissect/point_value.hpp"
 #include "dissect/sensor_classes.hpp"
 #include "framing/record.hpp"
 
@@ -82,12 +84,11 @@ class MqttFeed final : public RecordSink {
   };
 
   void slave_status(std::uint8_t slave, bool online);
-  void point_value(const Record& record, std::string_view point, double value,
-                   std::string_view unit);
+  void point_value(const Record& record, const dissect::PointValue& sample);
   void send_value(PointState& point);
   void send_due(Nanos now);
-  void send_discovery(std::uint8_t slave, std::string_view point, const PointState& state,
-                      const Record& record);
+  void send_discovery(std::uint8_t slave, const dissect::PointValue& sample,
+                      const PointState& state, const Record& record);
   void send_health(Nanos now);
 
   MqttFeedOptions options_;

@@ -3,8 +3,9 @@
 
   discovery  a broker on a free loopback port, `mosquitto_sub` collecting everything, the
              demo with --mqtt and --mqtt-discovery: every point published has a retained Home
-             Assistant config whose device_class/state_class are those the data file gives
-             for its unit; the last value of every point equals the last value the demo
+             Assistant config whose device_class/state_class are those its device map states,
+             else those the data file gives for its unit (the YW2050's power factors and the
+             TH900's RH say their own); the last value of every point equals the last value the demo
              decoded; slaves 1-4 are online; the CRC faults are findings; the last health
              message counts the demo's frames; rtuscope's own status ends "offline".
   restart    the demo starts before the broker, which is then started, stopped mid-run and
@@ -117,6 +118,23 @@ def decoded_points(records):
     return last
 
 
+def map_classes(source):
+    """(slave, point id) → the Home Assistant classes the demo's device maps state for the
+    point ("" = none), for the keys they state."""
+    with open(os.path.join(source, "captures", "demo_four_devices.bus.toml"), "rb") as f:
+        slaves = tomllib.load(f)["slaves"]
+    out = {}
+    for slave, model in slaves.items():
+        with open(os.path.join(source, "dissectors", f"{model}.toml"), "rb") as f:
+            device_map = tomllib.load(f)
+        for space in device_map["space"].values():
+            for point in space.get("point", []):
+                stated = {k: point[k] for k in ("device_class", "state_class") if k in point}
+                if stated:
+                    out[(int(slave), mqtt_id(point["name"]))] = stated
+    return out
+
+
 def discovery(args, work):
     port = free_port()
     procs = [start_broker(work, port)]
@@ -137,6 +155,10 @@ def discovery(args, work):
     with open(os.path.join(args.source, "dissectors", "home_assistant",
                            "sensor_classes.toml"), "rb") as f:
         classes = tomllib.load(f)["unit"]
+    stated = map_classes(args.source)
+    # The points whose maps say their classes, as Home Assistant must get them.
+    annotated = {(1, "PFa"): {"device_class": "power_factor", "state_class": "measurement"},
+                 (3, "RH"): {"device_class": "humidity", "state_class": "measurement"}}
 
     values = {}
     for _, topic, payload in msgs:
@@ -146,6 +168,9 @@ def discovery(args, work):
     want = decoded_points(records)
     if not want:
         fail("the demo decoded no named points")
+    for key in annotated:
+        if key not in want:
+            fail(f"the demo decoded no {key}, whose map states its classes")
     if set(values) != set(want):
         fail(f"points only published: {sorted(set(values) - set(want))[:5]}, only decoded: "
              f"{sorted(set(want) - set(values))[:5]}")
@@ -157,6 +182,7 @@ def discovery(args, work):
 
     configs = {t: json.loads(p) for t, p in late.items() if t.startswith("homeassistant/")}
     classed = 0
+    own = 0
     for (slave, point), v in values.items():
         topic = f"homeassistant/sensor/rtuscope_demo_{slave}/{point}/config"
         if topic not in configs:
@@ -166,12 +192,17 @@ def discovery(args, work):
                 config["device"]["identifiers"] != [f"rtuscope_demo_{slave}"]:
             fail(f"{topic}: {config}")
         unit = v["unit"]
-        expected = classes.get(unit, {})
+        expected = {k: c for k, c in {**classes.get(unit, {}),
+                                      **stated.get((slave, point), {})}.items() if c}
         if config.get("device_class") != expected.get("device_class") or \
                 config.get("state_class") != expected.get("state_class") or \
                 config.get("unit_of_measurement") != (unit or None):
-            fail(f"{topic} for unit {unit!r}: {config}")
+            fail(f"{topic} for unit {unit!r} (expected {expected}): {config}")
+        if (slave, point) in annotated and \
+                {k: config.get(k) for k in annotated[(slave, point)]} != annotated[(slave, point)]:
+            fail(f"{topic}: {config}, not the classes its map states")
         classed += "device_class" in config
+        own += (slave, point) in stated
     if classed == 0:
         fail("no config carries a device_class")
 
@@ -188,7 +219,8 @@ def discovery(args, work):
     if not health or health[-1]["frames"] != frames or health[-1]["mqtt_dropped"] != 0:
         fail(f"last health {health[-1:]} (the demo printed {frames} frames)")
     print(f"OK: {len(msgs)} messages; {len(values)} points equal the decoded values, each with "
-          f"a retained config ({classed} with a device_class); 4 slaves online, "
+          f"a retained config ({classed} with a device_class, {own} with its map's own "
+          f"classes); 4 slaves online, "
           f"{len(findings)} findings, health counts {frames} frames")
 
 

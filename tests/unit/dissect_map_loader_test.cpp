@@ -58,7 +58,7 @@ scal = 0.01
   EXPECT_EQ(e[0],
             "bad.toml:20: unknown key 'scal' in point 'Ua' (allowed: addr, name, type, "
             "word_order, access, scale, offset, unit, decimals, scale_by, learn, enum, bits, "
-            "range, spare, doc)");
+            "range, spare, device_class, state_class, doc)");
 }
 
 TEST(MapLoader, UnknownTopLevelTable) {
@@ -165,6 +165,62 @@ scale = 0
       "bad.toml:34: point 'D': word_order applies to 32-bit types only",
       "bad.toml:39: point 'E': type 'u8' needs a byte-addressed space (addressing = \"byte\")",
       "bad.toml:44: point 'F': scale must not be 0",
+  };
+  EXPECT_EQ(e, expected);
+}
+
+TEST(MapLoader, HomeAssistantClassesOfAPoint) {
+  const auto r = load_map_text(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "PF"
+device_class = "power_factor"
+state_class = "measurement"
+
+[[space.regs.point]]
+addr = 0x0003
+name = "RA"
+unit = "A"
+state_class = ""
+
+[[space.regs.point]]
+addr = 0x0004
+name = "Ua"
+unit = "V"
+)",
+                               "bad.toml");
+  ASSERT_TRUE(r.ok()) << r.errors.front();
+  const auto& points = r.map.spaces[0].points;
+  ASSERT_EQ(points.size(), 4U);
+  EXPECT_EQ(points[1].device_class, std::optional<std::string>("power_factor"));
+  EXPECT_EQ(points[1].state_class, std::optional<std::string>("measurement"));
+  // "" is kept apart from "not said": it takes away the unit's class.
+  EXPECT_EQ(points[2].device_class, std::nullopt);
+  EXPECT_EQ(points[2].state_class, std::optional<std::string>(""));
+  EXPECT_EQ(points[3].device_class, std::nullopt);
+  EXPECT_EQ(points[3].state_class, std::nullopt);
+}
+
+TEST(MapLoader, BadHomeAssistantClassesSayWhere) {
+  const auto e = errors_of(std::string(kBase) + R"(
+[[space.regs.point]]
+addr = 0x0002
+name = "E"
+unit = "kWh"
+state_class = "increasing"
+
+[[space.regs.point]]
+addr = 0x0003
+name = "U"
+device_class = "Voltage"
+state_class = 1
+)");
+  const std::vector<std::string> expected = {
+      "bad.toml:21: point 'E': state_class 'increasing' is not one of: measurement, total, "
+      "total_increasing (or \"\" for none)",
+      "bad.toml:26: point 'U': device_class 'Voltage' must be a Home Assistant sensor device "
+      "class, lowercase letters, digits and '_' (e.g. \"voltage\"), or \"\" for none",
+      "bad.toml:27: point 'U': 'state_class' must be a string",
   };
   EXPECT_EQ(e, expected);
 }

@@ -49,6 +49,12 @@ class FeedTest : public ::testing::Test {
 
   // A sound response of slave 1 carrying Ua = value at time t.
   void response(Nanos t, double value, bool with_value = true) {
+    std::vector<dissect::PointValue> values;
+    if (with_value) values.push_back({t, 1, "Ua", value, "V"});
+    response_with(t, values);
+  }
+  // A sound response of slave 1 carrying these values.
+  void response_with(Nanos t, const std::vector<dissect::PointValue>& values) {
     Record r;
     r.t_start = t;
     r.t_end = t + kMs;
@@ -59,7 +65,7 @@ class FeedTest : public ::testing::Test {
     r.role = Role::kResponse;
     dissect::DeviceReading reading;
     reading.map = &map_;
-    if (with_value) reading.values.push_back({t, 1, "Ua", value, "V"});
+    reading.values = values;
     r.device = &reading;
     feed_->on_record(r);
   }
@@ -78,7 +84,9 @@ class FeedTest : public ::testing::Test {
   dissect::DeviceMap map_;
   dissect::SensorClasses classes_ = dissect::SensorClasses::load_text(
       "[unit.\"V\"]\ndevice_class = \"voltage\"\n"
-      "state_class = \"measurement\"\n",
+      "state_class = \"measurement\"\n"
+      "[unit.\"kWh\"]\ndevice_class = \"energy\"\n"
+      "state_class = \"total_increasing\"\n",
       "classes.toml");
   Collected out_;
   std::unique_ptr<MqttFeed> feed_;
@@ -132,6 +140,57 @@ TEST_F(FeedTest, DiscoveryConfigComesFirstRetainedWithTheUnitsClasses) {
         R"("availability_topic":"rtuscope/ttyUSB0/1/status")"}) {
     EXPECT_NE(config->payload.find(part), std::string::npos) << part << " in " << config->payload;
   }
+}
+
+TEST_F(FeedTest, APointsOwnClassesWinOverItsUnitsAndEmptyMeansNone) {
+  dissect::Point pf;  // no unit, so no classes but its own
+  pf.name = "PF";
+  pf.device_class = "power_factor";
+  pf.state_class = "measurement";
+  dissect::Point energy;  // a counter that may be reset: total, not total_increasing
+  energy.name = "E";
+  energy.unit = "kWh";
+  energy.state_class = "total";
+  dissect::Point setting;  // a set-point in volts: not a measurement
+  setting.name = "Uset";
+  setting.unit = "V";
+  setting.state_class = "";
+  dissect::Point plain;  // says nothing: the unit's classes
+  plain.name = "Ua";
+  plain.unit = "V";
+  dissect::Point counter;  // says nothing either; a class name too long to be stored inline
+  counter.name = "Ein";
+  counter.unit = "kWh";
+  std::vector<dissect::PointValue> values;
+  for (const dissect::Point* p : {&pf, &energy, &setting, &plain, &counter}) {
+    dissect::PointValue v{kT0, 1, p->name, 1.0, p->unit};
+    v.definition = p;
+    values.push_back(v);
+  }
+  response_with(kT0, values);
+  auto config = [this](const std::string& point) {
+    const auto configs = out_.on("homeassistant/sensor/rtuscope_ttyUSB0_1/" + point + "/config");
+    return configs.size() == 1 ? configs[0] : std::string("(" + point + ": no single config)");
+  };
+  auto has = [](const std::string& text, const char* part) {
+    return text.find(part) != std::string::npos;
+  };
+  const std::string pf_config = config("PF");
+  EXPECT_TRUE(has(pf_config, R"("device_class":"power_factor")")) << pf_config;
+  EXPECT_TRUE(has(pf_config, R"("state_class":"measurement")")) << pf_config;
+  EXPECT_FALSE(has(pf_config, "unit_of_measurement")) << pf_config;
+  const std::string energy_config = config("E");
+  EXPECT_TRUE(has(energy_config, R"("device_class":"energy")")) << energy_config;
+  EXPECT_TRUE(has(energy_config, R"("state_class":"total")")) << energy_config;
+  EXPECT_FALSE(has(energy_config, "total_increasing")) << energy_config;
+  const std::string setting_config = config("Uset");
+  EXPECT_TRUE(has(setting_config, R"("device_class":"voltage")")) << setting_config;
+  EXPECT_FALSE(has(setting_config, "state_class")) << setting_config;
+  const std::string plain_config = config("Ua");
+  EXPECT_TRUE(has(plain_config, R"("device_class":"voltage")")) << plain_config;
+  EXPECT_TRUE(has(plain_config, R"("state_class":"measurement")")) << plain_config;
+  const std::string counter_config = config("Ein");
+  EXPECT_TRUE(has(counter_config, R"("state_class":"total_increasing")")) << counter_config;
 }
 
 TEST_F(FeedTest, ASlaveGoesOfflineAfterThreeTimeoutsInARowAndBackOnline) {

@@ -52,7 +52,7 @@ void BM_StageDecimalSeconds(benchmark::State& state) {
   for (auto _ : state) {
     for (const auto& s : stamps) benchmark::DoNotOptimize(parse_decimal_seconds(s, false));
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * stamps.size()));
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(stamps.size()));
 }
 
 void BM_StageCrc16(benchmark::State& state) {
@@ -102,7 +102,7 @@ void BM_StageDecodePdu(benchmark::State& state) {
   for (auto _ : state) {
     for (const Record& r : kept.records) benchmark::DoNotOptimize(decode_pdu(r, r.role));
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kept.records.size()));
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kept.records.size()));
 }
 
 // Framing and pairing, then the device stage (raw register values) and the statistics:

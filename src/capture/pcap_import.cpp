@@ -189,6 +189,9 @@ bool PcapImporter::next(PcapItem& out) {
             "frames) or 'data' (bytes that form no frame)",
             name(), at, pdu->dissector));
       }
+      // Wireshark writes records whose PDU is empty; they hold no byte, so no frame or
+      // noise (a 0-byte "frame" would be a request of slave 0 that nobody answers).
+      if (pdu->payload.empty()) continue;
       bytes_.assign(pdu->payload.begin(), pdu->payload.end());
       out = PcapItem{};
       out.kind = pdu->dissector == "data" ? PcapItem::Kind::kNoise : PcapItem::Kind::kFrame;

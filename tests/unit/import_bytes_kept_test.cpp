@@ -406,3 +406,20 @@ TEST(ImportBytesKept, OversizeUpperPduRecordsReadBackFromTheirExport) {
 
 }  // namespace
 }  // namespace rtu
+
+namespace rtu {
+namespace {
+
+// Wireshark writes upper-PDU records with no payload (a dissector's empty PDU). They hold
+// no byte: nothing to decode, and no 0-byte "frame" (slave 0, function 0) that would
+// wait for an answer and time out.
+TEST(ImportBytesKept, EmptyUpperPduRecordsHoldNoFrame) {
+  TempDir dir;
+  const auto path =
+      upper_pdu_capture(dir, {{kRequest}, {Bytes{}}, {kResponse}, {Bytes{}, "data"}});
+  const auto records = decode(path);
+  expect_records(records, {{RecordKind::kFrame, kRequest}, {RecordKind::kFrame, kResponse}});
+}
+
+}  // namespace
+}  // namespace rtu

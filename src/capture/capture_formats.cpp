@@ -17,9 +17,8 @@ std::unique_ptr<CaptureReader> open_saleae(const std::string& path, WarningSink 
   return std::make_unique<SaleaeReader>(path, std::move(warnings));
 }
 
-// pcap readers warn through capture_warnings() (records cut short), not through a sink.
-std::unique_ptr<CaptureReader> open_pcap(const std::string& path, WarningSink /*warnings*/) {
-  return std::make_unique<PcapCaptureReader>(path);
+std::unique_ptr<CaptureReader> open_pcap(const std::string& path, WarningSink warnings) {
+  return std::make_unique<PcapCaptureReader>(path, std::move(warnings));
 }
 
 }  // namespace

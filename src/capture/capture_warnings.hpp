@@ -3,6 +3,7 @@
 // the user must know (e.g. a timestamp that went backwards). Readers never print themselves;
 // they hand the message (already "FILE:LINE: ...") to a sink, so a caller that reads a file
 // twice can silence the second pass and tests can collect the messages.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -39,6 +40,27 @@ class BackwardTimeClamp {
   Nanos last_ = 0;
   std::string last_text_;
   std::uint64_t last_line_ = 0;
+  std::uint64_t clamped_ = 0;
+  bool finished_ = false;
+};
+
+// The same for records that are found by their offset in a binary file (pcap, pcapng): the
+// message names the offset, and the times are shown in seconds since 1970.
+class RecordTimeClamp {
+ public:
+  static constexpr int kDetailed = BackwardTimeClamp::kDetailed;
+
+  RecordTimeClamp(std::string file, WarningSink sink);
+  Nanos admit(Nanos t, std::uint64_t offset);
+  void finish();
+  [[nodiscard]] std::uint64_t clamped() const { return clamped_; }
+
+ private:
+  std::string file_;
+  WarningSink sink_;
+  bool have_last_ = false;
+  Nanos last_ = 0;
+  std::uint64_t last_offset_ = 0;
   std::uint64_t clamped_ = 0;
   bool finished_ = false;
 };

@@ -6,14 +6,16 @@
 #include <vector>
 
 #include "capture/capture_reader.hpp"
+#include "capture/capture_warnings.hpp"
 #include "capture/pcap_import.hpp"
 
 namespace rtu {
 
 class PcapCaptureReader final : public CaptureReader {
  public:
-  // Throws InputError when the file cannot be opened or its header is unusable.
-  explicit PcapCaptureReader(const std::string& path);
+  // Throws InputError when the file cannot be opened or its header is unusable. Times that
+  // go backwards are clamped and reported to `warnings` (RecordTimeClamp).
+  PcapCaptureReader(const std::string& path, WarningSink warnings);
 
   bool read(CaptureConsumer& to) override;
   [[nodiscard]] std::string name() const override { return importer_.name(); }
@@ -36,9 +38,16 @@ class PcapCaptureReader final : public CaptureReader {
   [[nodiscard]] std::vector<std::string> capture_warnings() const override;
 
  private:
+  RecordTimeClamp& chunk_clamp(std::uint8_t port);
+
   PcapImporter importer_;
   PcapItem item_;
   Nanos precision_ = 0;
+  WarningSink warnings_;
+  // Frame and noise records are one stream; each port's reads are another (the two ports of
+  // a recording are read by two threads, and are put in order by the decoder).
+  RecordTimeClamp record_clamp_;
+  std::vector<RecordTimeClamp> chunk_clamps_;
 };
 
 }  // namespace rtu

@@ -45,10 +45,16 @@ class Feed final : public CaptureConsumer {
     pipeline_.push(chunk);
   }
   void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
-    if (!use_chunks_) pipeline_.push_frame(adu, t_start, t_end(adu, t_start), origin);
+    if (use_chunks_) return;
+    t_start = on_free_line(t_start);
+    line_free_at_ = t_end(adu, t_start);
+    pipeline_.push_frame(adu, t_start, line_free_at_, origin);
   }
   void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override {
-    if (!use_chunks_) pipeline_.push_noise(bytes, t_start, t_end(bytes, t_start), origin);
+    if (use_chunks_) return;
+    t_start = on_free_line(t_start);
+    line_free_at_ = t_end(bytes, t_start);
+    pipeline_.push_noise(bytes, t_start, line_free_at_, origin);
   }
   // A live recording ends where the live run stopped: what was pending then (a request
   // still waiting for its answer) is decided as live decided it.
@@ -58,6 +64,13 @@ class Feed final : public CaptureConsumer {
   [[nodiscard]] Nanos t_end(std::span<const std::uint8_t> bytes, Nanos t_start) const {
     return t_start + static_cast<Nanos>(bytes.size()) * char_time_;
   }
+  // One line carries one record at a time: a record stamped before the previous one ended
+  // (its time went backwards and was clamped by the reader, or another tool stamped it
+  // late) starts when the line was free, so no latency or gap comes out negative.
+  [[nodiscard]] Nanos on_free_line(Nanos t_start) const {
+    return line_free_at_ != kUnknownTime && t_start < line_free_at_ ? line_free_at_ : t_start;
+  }
+  Nanos line_free_at_ = kUnknownTime;
   DecodePipeline& pipeline_;
   const ReplayOptions& options_;
   bool use_chunks_;

@@ -341,7 +341,7 @@ TEST(CaptureSet, RotationNeverSplitsARead) {
   }
   ASSERT_EQ(parts.size(), 3U);  // the event went with the read after it, not alone
   for (const auto& part : parts) {
-    PcapCaptureReader reader(part);
+    PcapCaptureReader reader(part, {});
     struct Count final : CaptureConsumer {
       void on_chunk(const Chunk& chunk) override {
         ++chunks;

@@ -127,6 +127,12 @@ void run_live(LiveArgs& args, int& exit_code) {
     if (recorder) {
       fmt::print(stderr, "rtuscope: {} records written to {}\n", recorder->records(),
                  fmt::join(recorder->files(), ", "));
+      if (!recorder->failure().empty()) {
+        fmt::print(stderr,
+                   "rtuscope: the recording stopped early; {} reads after it were decoded "
+                   "but not recorded\n",
+                   recorder->unrecorded_reads());
+      }
     }
   };
   std::unique_ptr<MqttPublishing> mqtt;

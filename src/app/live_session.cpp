@@ -20,6 +20,7 @@
 #include "app/run_report.hpp"
 #include "app/session_monitor.hpp"
 #include "core/input_error.hpp"
+#include "core/output_error.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -131,6 +132,22 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
       capture.stop();
     }
   });
+  // Output that cannot be written ends the run cleanly; the first such error is the one
+  // the run exits with.
+  std::optional<OutputError> output_error;
+  bool stop_for_output = false;  // stopped from the loop, not from inside a read's handling
+  if (recorder) {
+    recorder->set_failure_listener([&](const std::string& message) {
+      if (setup.stop_on_write_error) {
+        fmt::print(stderr, "{}: recording stopped: {}; stopping (--stop-on-write-error)\n", prefix,
+                   message);
+        if (!output_error) output_error.emplace(message);
+        stop_for_output = true;
+      } else {
+        fmt::print(stderr, "{}: recording stopped: {}; decoding goes on\n", prefix, message);
+      }
+    });
+  }
   const ReopenOnHangup hangup(io, capture, recorder.get(), prefix);
   std::optional<MetricsEndpoint> endpoint;
   if (metrics) endpoint.emplace(io, setup.metrics_address, *metrics, capture, recorder.get());
@@ -140,10 +157,23 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   if (hooks.on_listening) hooks.on_listening(capture);
   {
     const FinishWatch watch(io, hooks.finished, hooks.periodic, capture);
-    while (!capture.stopped()) io.run_one();
+    while (!capture.stopped()) {
+      try {
+        io.run_one();
+      } catch (const OutputError& e) {
+        // Said when the run ends, as the reason it exits with status 1.
+        if (!output_error) output_error.emplace(e);
+        stop_for_output = true;
+      }
+      if (stop_for_output && !capture.stopped()) capture.stop();
+    }
   }
   signals.cancel();
-  out.flush();
+  try {
+    out.flush();
+  } catch (const OutputError& e) {
+    if (!output_error) output_error.emplace(e);
+  }
   if (monitor) monitor->stop();
   if (hooks.on_stopped) hooks.on_stopped(capture.summary(), recorder.get());
 
@@ -157,6 +187,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
       fmt::print(stderr, "{}: report written to {}\n", prefix, setup.report_path);
     }
   }
+  if (output_error) throw *output_error;
 }
 
 }  // namespace rtu::app

@@ -36,6 +36,9 @@ struct LiveSessionSetup {
   std::string metrics_address;  // serve Prometheus metrics here ("" = nowhere)
   std::string events_path;      // JSON-lines events ("" = none, "-" = stdout)
   Nanos summary_every = 0;      // health summaries (0 = none)
+  // A recording that cannot be written (a full disk) ends the run with exit status 1,
+  // instead of stopping the recording while decoding goes on.
+  bool stop_on_write_error = false;
 };
 
 // What a command adds to the session. Every hook may be left empty.
@@ -58,7 +61,9 @@ struct LiveSessionHooks {
 };
 
 // Runs the session until it stops: throws InputError (a bad output or report path, a map
-// error) or SerialOpenError (a port that cannot be opened) before any frame.
+// error) or SerialOpenError (a port that cannot be opened) before any frame. When the frames'
+// output cannot be written (or, with stop_on_write_error, the recording), the session stops
+// as on Ctrl-C, finishes the recording, summary and report, then throws OutputError.
 void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
                       const LiveSessionHooks& hooks);
 

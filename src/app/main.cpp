@@ -2,11 +2,13 @@
 // cmd_*.cpp and register themselves (command.hpp).
 #include <fmt/format.h>
 
+#include <csignal>
 #include <exception>
 #include <vector>
 
 #include "app/command.hpp"
 #include "core/input_error.hpp"
+#include "core/output_error.hpp"
 
 namespace rtu::app {
 namespace {
@@ -27,6 +29,9 @@ bool register_command(CommandSetup setup) {
 
 int main(int argc, char** argv) {
   CLI::App app{"rtuscope: passive Modbus RTU bus analyzer"};
+  // A reader that goes away (`rtuscope decode x | head`, a closed pipe to a service) shows as
+  // a write error the run can end on cleanly, recording finished, instead of killing it.
+  std::signal(SIGPIPE, SIG_IGN);
   app.set_version_flag("--version", RTUSCOPE_VERSION);
   app.require_subcommand(1);
   int exit_code = 0;
@@ -37,6 +42,9 @@ int main(int argc, char** argv) {
     // Bad arguments are unusable input: exit 2 (CLI11's help/version exit 0).
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const rtu::OutputError& e) {
+    fmt::print(stderr, "rtuscope: {}\n", e.what());
+    return 1;
   } catch (const rtu::InputError& e) {
     fmt::print(stderr, "rtuscope: {}\n", e.what());
     return 2;

@@ -21,12 +21,16 @@ void MonitoringOptions::add_to(CLI::App& command) {
   command.add_option("--summary-every", summary_every,
                      "Every period (e.g. 15m), a health summary into the events and, with -w, "
                      "into the capture as a comment");
+  command.add_flag("--stop-on-write-error", stop_on_write_error,
+                   "When the recording (-w) cannot be written (a full disk), stop the run with "
+                   "exit status 1 (default: the recording stops, decoding goes on)");
 }
 
 void MonitoringOptions::apply(LiveSessionSetup& session) const {
   session.metrics_address = metrics;
   session.bus_name = bus_name;
   session.events_path = events;
+  session.stop_on_write_error = stop_on_write_error;
   if (!summary_every.empty())
     session.summary_every = parse_period(summary_every, "--summary-every");
 }

@@ -13,6 +13,7 @@ struct MonitoringOptions {
   std::string bus_name;  // its value when add_to() is called is the default shown
   std::string events;
   std::string summary_every;
+  bool stop_on_write_error = false;
 
   void add_to(CLI::App& command);
   // Into the session; throws InputError naming the option for a bad --summary-every.

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/input_error.hpp"
+#include "core/output_error.hpp"
 
 namespace rtu {
 
@@ -20,13 +21,17 @@ FileOutput::FileOutput(std::string path, bool append) : path_(std::move(path)) {
   if (fd_ < 0) {
     throw InputError(fmt::format("{}: cannot create: {}", path_, std::strerror(errno)));
   }
+  if (append) {
+    const off_t end = ::lseek(fd_, 0, SEEK_END);
+    committed_ = end > 0 ? static_cast<std::uint64_t>(end) : 0;
+  }
   buffer_.reserve(kBufferSize);
 }
 
 FileOutput::~FileOutput() {
   try {
     flush();
-  } catch (const InputError&) {
+  } catch (const OutputError&) {
     // Destructors must not throw; a caller that cares calls flush() first.
   }
   ::close(fd_);
@@ -48,14 +53,24 @@ void FileOutput::flush() {
 }
 
 void FileOutput::write_all(std::span<const std::uint8_t> bytes) {
+  if (failed_) return;
+  const std::size_t total = bytes.size();
   while (!bytes.empty()) {
     const ssize_t n = ::write(fd_, bytes.data(), bytes.size());
     if (n < 0) {
       if (errno == EINTR) continue;
-      throw InputError(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
+      const int error = errno;
+      // A full disk takes part of a write: cut the file back to its last whole unit, so it
+      // stays a valid (shorter) capture that every reader can open.
+      failed_ = true;
+      const bool cut = ::ftruncate(fd_, static_cast<off_t>(committed_)) == 0;
+      throw OutputError(fmt::format("{}: write failed: {}; the file {} the {} bytes written before",
+                                    path_, std::strerror(error),
+                                    cut ? "keeps" : "could not be cut back to", committed_));
     }
     bytes = bytes.subspan(static_cast<std::size_t>(n));
   }
+  committed_ += total;
 }
 
 }  // namespace rtu

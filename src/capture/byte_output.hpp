@@ -32,7 +32,9 @@ class MemoryOutput final : public ByteOutput {
 
 // Creates (or truncates) a file. Buffers up to kBufferSize bytes of whole units and writes
 // them with one system call each time the buffer would overflow, on flush(), and on
-// destruction. Throws InputError naming the path if it cannot be created or written.
+// destruction. Throws InputError naming the path if it cannot be created, and OutputError if
+// a write fails (a full disk): the file is then cut back to the end of its last whole unit,
+// and later writes do nothing.
 class FileOutput final : public ByteOutput {
  public:
   // Creates (or truncates) the file; with `append`, keeps what it holds and writes after it.
@@ -52,6 +54,8 @@ class FileOutput final : public ByteOutput {
   std::string path_;
   int fd_ = -1;
   std::vector<std::uint8_t> buffer_;
+  std::uint64_t committed_ = 0;  // bytes in the file, all whole units
+  bool failed_ = false;
 };
 
 }  // namespace rtu

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "core/input_error.hpp"
+#include "core/output_error.hpp"
 
 namespace rtu {
 
@@ -39,7 +40,7 @@ void PipeOutput::write(std::span<const std::uint8_t> unit) {
         ++dropped_;
         return;
       }
-      throw InputError(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
+      throw OutputError(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
     }
     unit = unit.subspan(static_cast<std::size_t>(n));
   }

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/input_error.hpp"
+#include "core/output_error.hpp"
 
 namespace rtu {
 
@@ -26,13 +27,18 @@ OutputStream::~OutputStream() {
 
 void OutputStream::write(const fmt::memory_buffer& buffer) {
   if (buffer.size() == 0) return;
-  if (std::fwrite(buffer.data(), 1, buffer.size(), file_) != buffer.size()) {
-    throw InputError(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
-  }
+  if (failed_) return;  // the error was reported once; the run is ending
+  if (std::fwrite(buffer.data(), 1, buffer.size(), file_) != buffer.size()) fail(errno);
 }
 
 void OutputStream::flush() {
-  std::fflush(file_);
+  if (failed_) return;
+  if (std::fflush(file_) != 0) fail(errno);
+}
+
+void OutputStream::fail(int error) {
+  failed_ = true;
+  throw OutputError(fmt::format("{}: write failed: {}", path_, std::strerror(error)));
 }
 
 }  // namespace rtu

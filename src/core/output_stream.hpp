@@ -1,6 +1,8 @@
 #pragma once
 // Where writers put their bytes: stdout or a file, written a whole record at a time so a
-// reader following the output never sees half a line.
+// reader following the output never sees half a line. A write or flush that fails (a full
+// disk, a closed pipe) throws OutputError once; later calls do nothing, so a run that is
+// ending because of it can still finish its other outputs.
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -18,11 +20,15 @@ class OutputStream {
 
   void write(const fmt::memory_buffer& buffer);
   void flush();
+  [[nodiscard]] bool failed() const { return failed_; }
 
  private:
+  [[noreturn]] void fail(int error);
+
   std::FILE* file_ = nullptr;
   bool owned_ = false;
   std::string path_;
+  bool failed_ = false;
 };
 
 }  // namespace rtu

@@ -8,6 +8,7 @@
 #include "capture/byte_output.hpp"
 #include "capture/pcap_format.hpp"
 #include "core/input_error.hpp"
+#include "core/output_error.hpp"
 
 namespace rtu {
 namespace {
@@ -66,7 +67,17 @@ PcapngRecorder::PcapngRecorder(std::unique_ptr<ByteOutput> output, std::string n
     : path_(std::move(name)), given_output_(std::move(output)) {}
 
 PcapngRecorder::~PcapngRecorder() {
-  if (writer_) writer_->flush();
+  try {
+    if (writer_) writer_->flush();
+  } catch (const OutputError&) {
+    // Said already, or too late to say: the file keeps its whole blocks either way.
+  }
+}
+
+void PcapngRecorder::stop_recording(const std::string& why) {
+  if (!failure_.empty()) return;
+  failure_ = why;
+  if (failure_listener_) failure_listener_(failure_);
 }
 
 void PcapngRecorder::add_port(std::size_t port, const std::string& name, const LineSettings& line,
@@ -117,14 +128,18 @@ void PcapngRecorder::open_file(Nanos t, bool append) {
 
 void PcapngRecorder::reopen(Nanos t) {
   ++reopens_;
-  if (!writer_) return;  // nothing written yet: the first read opens the file anyway
+  if (!writer_ || !failure_.empty()) return;  // the first read opens the file anyway
   const bool rotating = rotation_.max_bytes != 0 || rotation_.max_age != 0;
   open_file(t, !rotating);
 }
 
 void PcapngRecorder::add_comment(Nanos t, std::string_view text) {
-  if (ports_.empty()) return;
-  write(0, t, RtacEvent::kStatusChange, {}, text);
+  if (ports_.empty() || !failure_.empty()) return;
+  try {
+    write(0, t, RtacEvent::kStatusChange, {}, text);
+  } catch (const OutputError& e) {
+    stop_recording(e.what());
+  }
 }
 
 void PcapngRecorder::maybe_rotate(Nanos t) {
@@ -152,6 +167,23 @@ void PcapngRecorder::write(std::size_t port, Nanos t, RtacEvent event,
 }
 
 void PcapngRecorder::on_chunk(std::size_t port, const Chunk& chunk) {
+  if (!failure_.empty()) {
+    ++unrecorded_reads_;
+    return;
+  }
+  try {
+    record_chunk(port, chunk);
+  } catch (const OutputError& e) {
+    ++unrecorded_reads_;
+    stop_recording(e.what());
+  } catch (const InputError& e) {
+    // A new file of a rotation that cannot be created (the disk is full).
+    ++unrecorded_reads_;
+    stop_recording(e.what());
+  }
+}
+
+void PcapngRecorder::record_chunk(std::size_t port, const Chunk& chunk) {
   const RtacEvent data_event =
       ports_.size() == 2 && port == 0 ? RtacEvent::kDataTxStart : RtacEvent::kDataRxStart;
   // A new file starts only before a whole read: the records of one read (split where its
@@ -175,19 +207,37 @@ void PcapngRecorder::on_chunk(std::size_t port, const Chunk& chunk) {
 }
 
 void PcapngRecorder::on_gap(std::size_t port, Nanos t, const std::string& reason) {
-  maybe_rotate(t);
-  write(port, t, RtacEvent::kCaptureDataLost, {}, reason);
-  event_waits_for_byte_ = true;
+  if (!failure_.empty()) return;
+  try {
+    maybe_rotate(t);
+    write(port, t, RtacEvent::kCaptureDataLost, {}, reason);
+    event_waits_for_byte_ = true;
+  } catch (const OutputError& e) {
+    stop_recording(e.what());
+  } catch (const InputError& e) {
+    stop_recording(e.what());
+  }
 }
 
 // The end goes into the file that holds the last reads, never alone into a new one.
 void PcapngRecorder::on_end(Nanos t) {
-  write(0, t, RtacEvent::kCaptureComplete, {}, "capture stopped");
+  if (!failure_.empty()) return;
+  try {
+    write(0, t, RtacEvent::kCaptureComplete, {}, "capture stopped");
+    writer_->flush();
+  } catch (const OutputError& e) {
+    stop_recording(e.what());
+  }
 }
 
 void PcapngRecorder::flush() {
   if (!writer_) open_file(kUnknownTime);  // the file exists from the start
-  writer_->flush();
+  if (!failure_.empty()) return;
+  try {
+    writer_->flush();
+  } catch (const OutputError& e) {
+    stop_recording(e.what());
+  }
 }
 
 }  // namespace rtu

@@ -49,12 +49,20 @@ RotationPolicy parse_rotation(const std::string& text);
 // interfaces) starts, so a file that was not moved away stays one valid capture. With
 // --rotate, reopen() starts the next numbered file instead.
 //
+// A write that fails once the recording runs (a full disk) stops the recording, not the
+// run: the file keeps every whole block written before (FileOutput cuts it back), the
+// failure listener is told once, and later reads are counted, not written. A file that
+// cannot be created at the start is an InputError, as a bad path is.
+//
 // Comments (add_comment()) are STATUS_CHANGE records without bytes carrying a pcapng
 // comment: Wireshark shows them, and replays skip them (no bytes, no error flags).
 class PcapngRecorder final : public ChunkRecorder {
  public:
   // Told each time a file starts (the first one included): its path and capture time.
   using FileListener = std::function<void(const std::string& path, Nanos t)>;
+  // Told once when the recording stops on a write error: the message names the file and
+  // says what it keeps.
+  using FailureListener = std::function<void(const std::string& message)>;
 
   // Throws InputError when the file cannot be created.
   PcapngRecorder(std::string path, RotationPolicy rotation = {});
@@ -77,6 +85,11 @@ class PcapngRecorder final : public ChunkRecorder {
   // A comment in the capture at `t` (health summaries), on the first port's interface.
   void add_comment(Nanos t, std::string_view text);
   void set_file_listener(FileListener listener) { file_listener_ = std::move(listener); }
+  void set_failure_listener(FailureListener listener) { failure_listener_ = std::move(listener); }
+
+  // Why the recording stopped ("" while it runs), and the reads not recorded since.
+  [[nodiscard]] const std::string& failure() const { return failure_; }
+  [[nodiscard]] std::uint64_t unrecorded_reads() const { return unrecorded_reads_; }
 
   [[nodiscard]] std::uint64_t records() const { return records_; }
   [[nodiscard]] std::uint64_t reopens() const { return reopens_; }
@@ -93,6 +106,8 @@ class PcapngRecorder final : public ChunkRecorder {
   void maybe_rotate(Nanos t);
   void write(std::size_t port, Nanos t, RtacEvent event, std::span<const std::uint8_t> bytes,
              std::string_view comment);
+  void record_chunk(std::size_t port, const Chunk& chunk);
+  void stop_recording(const std::string& why);
 
   std::string path_;
   RotationPolicy rotation_;
@@ -108,6 +123,9 @@ class PcapngRecorder final : public ChunkRecorder {
   std::uint64_t bytes_written_ = 0;
   std::uint64_t reopens_ = 0;
   FileListener file_listener_;
+  FailureListener failure_listener_;
+  std::string failure_;
+  std::uint64_t unrecorded_reads_ = 0;
   Nanos file_started_ = kUnknownTime;
   std::uint64_t file_index_ = 0;
   std::uint64_t records_ = 0;

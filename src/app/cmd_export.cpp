@@ -7,11 +7,13 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "app/file_replaced_on_success.hpp"
 #include "app/line_options.hpp"
 #include "app/progress_line.hpp"
 #include "capture/byte_output.hpp"
 #include "capture/capture_paths.hpp"
 #include "core/input_error.hpp"
+#include "core/time_format.hpp"
 #include "pipeline/replay.hpp"
 #include "report/export_formats.hpp"
 #include "report/pcap_export.hpp"
@@ -26,6 +28,12 @@ struct ExportArgs {
   LineOptions line;
   bool quiet = false;
 };
+
+std::string seconds_text(Nanos t) {
+  fmt::memory_buffer out;
+  append_seconds(out, t);
+  return fmt::to_string(out);
+}
 
 void setup_export(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ExportArgs>();
@@ -52,13 +60,31 @@ void setup_export(CLI::App& app, int& exit_code) {
     }
     options.raw = args->raw;
     ReplayOptions replay = args->line.to_replay_options();
-    PcapExportSink sink(std::make_unique<FileOutput>(args->output), options);
+    FileReplacedOnSuccess output(args->output);
+    auto file = std::make_unique<FileOutput>(output.temporary_path());
+    FileOutput& written = *file;
+    PcapExportSink sink(std::move(file), options);
     if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
     ProgressLine progress(progress_wanted(args->quiet, args->output));
     progress.attach(replay, "exporting");
     replay_capture(files, replay, sink);
     progress.erase();
+    written.flush();
+    output.commit();
     const auto& counts = sink.counts();
+    if (counts.shifted_by != 0) {
+      fmt::print(stderr,
+                 "rtuscope: warning: {}: every time is {} s later than in the capture: its first "
+                 "record starts at {} s, and pcap files cannot hold times before 1970\n",
+                 args->output, counts.shifted_by / kNanosPerSecond,
+                 seconds_text(counts.first_time));
+    }
+    if (counts.clamped_to_zero != 0) {
+      fmt::print(stderr,
+                 "rtuscope: warning: {}: {} records still before 1970 after that were written "
+                 "at time 0\n",
+                 args->output, counts.clamped_to_zero);
+    }
     fmt::print(stderr, "rtuscope: {}: {} frames, {} noise records{}\n", args->output, counts.frames,
                counts.noise,
                options.raw ? fmt::format(", {} raw records", counts.raw_records) : "");

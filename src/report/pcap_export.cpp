@@ -102,10 +102,28 @@ void PcapExportSink::write_raw_until(Nanos t) {
   }
 }
 
+Nanos PcapExportSink::file_time(Nanos t) {
+  if (!first_written_) {
+    first_written_ = true;
+    counts_.first_time = t;
+    if (t < 0) {
+      const Nanos seconds = (-t + kNanosPerSecond - 1) / kNanosPerSecond;
+      counts_.shifted_by = seconds * kNanosPerSecond;
+    }
+  }
+  t += counts_.shifted_by;
+  if (t < 0) {
+    ++counts_.clamped_to_zero;
+    return 0;
+  }
+  return t;
+}
+
 void PcapExportSink::write_raw(const RawRecord& raw) {
   if (!pcapng_) open(CaptureInfo{});
-  build_rtac_record(raw.t, raw.event, 0, raw.bytes, buffer_);
-  pcapng_->write_packet(raw_interface_, raw.t, buffer_);
+  const Nanos t = file_time(raw.t);
+  build_rtac_record(t, raw.event, 0, raw.bytes, buffer_);
+  pcapng_->write_packet(raw_interface_, t, buffer_);
   ++counts_.raw_records;
 }
 
@@ -129,8 +147,9 @@ void PcapExportSink::on_record(Record& record) {
   } else {
     ++counts_.noise;
   }
+  const Nanos t = file_time(record.t_start);
   if (pcap_) {
-    pcap_->write_packet(record.t_start, buffer_);
+    pcap_->write_packet(t, buffer_);
     return;
   }
   comment_ = export_comment(record);
@@ -139,7 +158,7 @@ void PcapExportSink::on_record(Record& record) {
   meta.flags = build.direction == PduDirection::kRequest    ? pcap::kFlagsOutbound
                : build.direction == PduDirection::kResponse ? pcap::kFlagsInbound
                                                             : 0;
-  pcapng_->write_packet(frames_interface_, record.t_start, buffer_, meta);
+  pcapng_->write_packet(frames_interface_, t, buffer_, meta);
 }
 
 void PcapExportSink::on_finish() {

@@ -43,6 +43,13 @@ struct PcapExportCounts {
   std::uint64_t frames = 0;
   std::uint64_t noise = 0;
   std::uint64_t raw_records = 0;
+  // pcap and pcapng cannot hold times before 1970. When the first record starts earlier (a
+  // text capture whose clock starts at 0, with the first frame's transmission counted back
+  // from its end), every time is shifted by this many whole seconds; a later record still
+  // before 1970 is written at 0 and counted.
+  Nanos shifted_by = 0;
+  Nanos first_time = 0;  // the first record's time before the shift
+  std::uint64_t clamped_to_zero = 0;
 };
 
 class PcapExportSink final : public RecordSink {
@@ -66,6 +73,8 @@ class PcapExportSink final : public RecordSink {
   void open(const CaptureInfo& info);
   void write_raw_until(Nanos t);
   void write_raw(const RawRecord& raw);
+  // The time to write for `t`: shifted and clamped as PcapExportCounts says.
+  Nanos file_time(Nanos t);
 
   std::unique_ptr<ByteOutput> pending_output_;  // until the first record decides the writer
   PcapExportOptions options_;
@@ -78,6 +87,7 @@ class PcapExportSink final : public RecordSink {
   std::vector<std::uint8_t> buffer_;
   std::string comment_;
   PcapExportCounts counts_;
+  bool first_written_ = false;
 };
 
 // The comment for a record ("" when it needs none).

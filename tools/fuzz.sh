@@ -47,7 +47,7 @@ status=0
 
 # The last statistics line: "#N DONE cov: X ft: Y ..." (one process) or "#N: cov: X ft: Y ..."
 # (fork mode).
-stats=$(grep -E '^#[0-9]+:? ' "$scratch/fuzz.log" | grep -E 'cov: [0-9]+' | tail -n 1 || true)
+stats=$(grep -E '^#[0-9]+:?[[:space:]]' "$scratch/fuzz.log" | grep -E 'cov: [0-9]+' | tail -n 1 || true)
 executions=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+).*/\1/p' "$scratch/fuzz.log" |
              tail -n 1)
 [[ -n $executions ]] || executions=$(sed -nE 's/^#([0-9]+).*/\1/p' <<<"$stats")

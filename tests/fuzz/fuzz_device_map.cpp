@@ -45,7 +45,7 @@ void check_point(const DeviceMap& map, const Space& space, const Point& p) {
   const unsigned width = p.value_bytes() * 8;
   for (std::size_t i = 0; i < p.bits.size(); ++i) {
     const auto& f = p.bits[i];
-    if (f.width == 0 || f.bit + f.width > width)
+    if (f.width == 0 || static_cast<unsigned>(f.bit + f.width) > width)
       fail(kTarget, "bit field outside the value", f.name);
     for (std::size_t k = 0; k < i; ++k) {
       const auto& g = p.bits[k];

@@ -166,14 +166,23 @@ std::uint8_t PcapImporter::port_of(std::uint32_t section, std::uint32_t interfac
   return static_cast<std::uint8_t>(port_interfaces_.size() - 1);
 }
 
+// The reader stops at the first damage, as PcapReader does: reading on would deliver what
+// follows a record nobody could place, and the caller's error would be followed by more.
+void PcapImporter::fail(std::string message) {
+  ended_ = true;
+  have_packet_ = false;
+  throw InputError(std::move(message));
+}
+
 bool PcapImporter::next(PcapItem& out) {
-  if (deferred_) {
-    const InputError error = *deferred_;
-    deferred_.reset();
-    ended_ = true;
-    throw error;
-  }
   for (;;) {
+    // Checked on every turn: a read of events without bytes may end at the damage too.
+    if (deferred_) {
+      const InputError error = *deferred_;
+      deferred_.reset();
+      ended_ = true;
+      throw error;
+    }
     if (!fetch()) return false;
     const std::uint64_t at = packet_.offset;
     std::string error;
@@ -181,10 +190,10 @@ bool PcapImporter::next(PcapItem& out) {
       have_packet_ = false;
       const auto pdu = parse_upper_pdu(packet_.data, error);
       if (!pdu) {
-        throw InputError(fmt::format("{}: offset {}: upper-PDU record: {}", name(), at, error));
+        fail(fmt::format("{}: offset {}: upper-PDU record: {}", name(), at, error));
       }
       if (pdu->dissector != upper_pdu::kModbusRtuDissector && pdu->dissector != "data") {
-        throw InputError(fmt::format(
+        fail(fmt::format(
             "{}: offset {}: upper-PDU record for dissector '{}'; expected 'mbrtu' (Modbus RTU "
             "frames) or 'data' (bytes that form no frame)",
             name(), at, pdu->dissector));
@@ -226,7 +235,7 @@ bool PcapImporter::next(PcapItem& out) {
            packet_.interface_id == interface_id && packet_.section == section &&
            !is_capture_complete(packet_.data)) {
       const auto rec = parse_rtac_record(packet_.data, error);
-      if (!rec) throw InputError(fmt::format("{}: offset {}: {}", name(), packet_.offset, error));
+      if (!rec) fail(fmt::format("{}: offset {}: {}", name(), packet_.offset, error));
       const std::uint8_t flags = errors_of(rec->event);
       if (rec->payload.empty()) {
         pending_errors_ = static_cast<std::uint8_t>(pending_errors_ | flags);

@@ -12,7 +12,8 @@
 //    bytes that form no frame that way). The record's time is the first byte's start.
 //    Records are delivered whole, however long (DecodePipeline::push_frame splits a frame
 //    record longer than the 256 bytes a record holds).
-// Other link types, other dissectors and malformed records: InputError with the offset.
+// Other link types, other dissectors and malformed records: InputError with the offset;
+// after it next() returns false.
 // Records the capturing tool cut short (snap length) are read as far as they go and
 // counted (cut_records()), so the caller can say that bytes are missing.
 #include <cstdint>
@@ -77,6 +78,7 @@ class PcapImporter {
 
  private:
   bool fetch();  // next packet into packet_; false at the end
+  [[noreturn]] void fail(std::string message);
   std::uint8_t port_of(std::uint32_t section, std::uint32_t interface_id);
   std::unique_ptr<PcapReader> reader_;
   CapturePacket packet_;

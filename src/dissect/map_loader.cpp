@@ -819,6 +819,12 @@ BusConfig load_bus_text(std::string_view text, std::string_view file_name) {
         if (s == nullptr || !is_model_key(s->get())) {
           fail(v, fmt::format("[slaves]: slave {} must name a model such as \"yw2050\"", *addr));
         }
+        // "2" and "02" are different TOML keys but one slave: which model wins is no choice
+        // to make silently.
+        for (const auto& known : bus.slaves) {
+          if (known.slave == *addr)
+            fail(v, fmt::format("[slaves]: slave {} is given twice", *addr));
+        }
         bus.slaves.push_back({static_cast<std::uint8_t>(*addr), s->get()});
       }
     } else if (key.str() == "live") {

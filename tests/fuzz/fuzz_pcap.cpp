@@ -68,8 +68,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   rules.target = kTarget;
   rules.text = std::string_view(reinterpret_cast<const char*>(data), size);
   rules.origins_are_lines = false;
-  const rtu::CaptureOpener open = [&path](const rtu::WarningSink&) {
-    return std::make_unique<rtu::PcapCaptureReader>(path);
+  const rtu::CaptureOpener open = [&path](const rtu::WarningSink& warnings) {
+    return std::make_unique<rtu::PcapCaptureReader>(path, warnings);
   };
   const rtu::fuzz::CaptureRead read = rtu::fuzz::read_and_check(open, path, rules);
 

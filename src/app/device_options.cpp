@@ -77,13 +77,14 @@ std::unique_ptr<DeviceSetup> DeviceOptions::build(ReplayOptions& options) const 
     if (eq == std::string::npos) {
       throw InputError(fmt::format("--device {}: expected ADDR=MODEL, e.g. 1=yw2050", d));
     }
-    slaves.push_back({parse_slave(d.substr(0, eq), "--device " + d), d.substr(eq + 1)});
+    slaves.push_back(
+        {parse_slave(d.substr(0, eq), "--device " + d), d.substr(eq + 1), "--device " + d});
   }
   for (const auto& s : slaves) {
     const dissect::DeviceMap* map = setup->library.find(s.model);
     if (map == nullptr) {
-      throw InputError(fmt::format("slave {}: no device map for model '{}' (known: {})", s.slave,
-                                   s.model, setup->library.model_list()));
+      throw InputError(fmt::format("{}: slave {}: no device map for model '{}' (known: {})",
+                                   s.origin, s.slave, s.model, setup->library.model_list()));
     }
     setup->table.assign(s.slave, *map, dissect::ModelOrigin::kConfigured);
   }

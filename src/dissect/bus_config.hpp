@@ -13,6 +13,8 @@ namespace rtu::dissect {
 struct SlaveModel {
   std::uint8_t slave = 0;
   std::string model;
+  // Where it was said ("plant.toml:7", "--device 2=yw2050"), for messages about the model.
+  std::string origin;
 };
 
 // [live]: how `rtuscope live --bus FILE` watches this bus when the command line does not say

@@ -825,7 +825,8 @@ BusConfig load_bus_text(std::string_view text, std::string_view file_name) {
           if (known.slave == *addr)
             fail(v, fmt::format("[slaves]: slave {} is given twice", *addr));
         }
-        bus.slaves.push_back({static_cast<std::uint8_t>(*addr), s->get()});
+        bus.slaves.push_back({static_cast<std::uint8_t>(*addr), s->get(),
+                              fmt::format("{}:{}", file, v.source().begin.line)});
       }
     } else if (key.str() == "live") {
       const auto* t = node.as_table();

@@ -148,7 +148,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
       }
     });
   }
-  const ReopenOnHangup hangup(io, capture, recorder.get(), prefix);
+  const ReopenOnHangup hangup(io, capture, recorder.get(), monitor ? &*monitor : nullptr, prefix);
   std::optional<MetricsEndpoint> endpoint;
   if (metrics) endpoint.emplace(io, setup.metrics_address, *metrics, capture, recorder.get());
   capture.start();

@@ -10,8 +10,13 @@
 namespace rtu::app {
 
 ReopenOnHangup::ReopenOnHangup(boost::asio::io_context& io, LiveCapture& capture,
-                               PcapngRecorder* recorder, std::string prefix)
-    : signals_(io, SIGHUP), capture_(capture), recorder_(recorder), prefix_(std::move(prefix)) {
+                               PcapngRecorder* recorder, SessionMonitor* monitor,
+                               std::string prefix)
+    : signals_(io, SIGHUP),
+      capture_(capture),
+      recorder_(recorder),
+      monitor_(monitor),
+      prefix_(std::move(prefix)) {
   arm();
 }
 
@@ -29,7 +34,16 @@ void ReopenOnHangup::arm() {
 }
 
 void ReopenOnHangup::reopen() {
-  if (recorder_ == nullptr || capture_.stopped()) return;
+  if (capture_.stopped()) return;
+  if (monitor_ != nullptr) {
+    try {
+      monitor_->reopen_events();
+    } catch (const InputError& e) {
+      fmt::print(stderr, "{}: SIGHUP: {}; events go on in the file already open\n", prefix_,
+                 e.what());
+    }
+  }
+  if (recorder_ == nullptr) return;
   try {
     recorder_->reopen(capture_.now());
     fmt::print(stderr, "{}: SIGHUP: recording on in {}\n", prefix_, recorder_->files().back());

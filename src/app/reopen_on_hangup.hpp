@@ -1,11 +1,12 @@
 #pragma once
 // SIGHUP during a live session: the recording goes on in a new file, for external log
-// rotation (PcapngRecorder::reopen). Without a recording the signal is ignored (it must not
-// end a service that only serves metrics).
+// rotation (PcapngRecorder::reopen), and so does the event log (SessionMonitor). With neither
+// the signal is ignored (it must not end a service that only serves metrics).
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <string>
 
+#include "app/session_monitor.hpp"
 #include "pipeline/live_capture.hpp"
 #include "pipeline/pcapng_recorder.hpp"
 
@@ -13,9 +14,9 @@ namespace rtu::app {
 
 class ReopenOnHangup {
  public:
-  // Everything passed must outlive this; `recorder` may be null.
+  // Everything passed must outlive this; `recorder` and `monitor` may be null.
   ReopenOnHangup(boost::asio::io_context& io, LiveCapture& capture, PcapngRecorder* recorder,
-                 std::string prefix);
+                 SessionMonitor* monitor, std::string prefix);
   ~ReopenOnHangup();
   ReopenOnHangup(const ReopenOnHangup&) = delete;
   ReopenOnHangup& operator=(const ReopenOnHangup&) = delete;
@@ -27,6 +28,7 @@ class ReopenOnHangup {
   boost::asio::signal_set signals_;
   LiveCapture& capture_;
   PcapngRecorder* recorder_;
+  SessionMonitor* monitor_;
   std::string prefix_;
 };
 

@@ -10,7 +10,8 @@ SessionMonitor::SessionMonitor(boost::asio::io_context& io, const std::string& e
                                const dissect::DeviceTable& devices)
     : findings_timer_(io), summary_timer_(io), summary_every_(summary_every), stats_(stats) {
   if (!events_path.empty()) {
-    out_.emplace(events_path);
+    // A restarted service appends to the log it finds, as log shippers expect.
+    out_.emplace(events_path, OutputStream::Mode::kAppend);
     log_.emplace(*out_, std::move(bus));
     record_events_.emplace(*log_, &devices);
     findings_.emplace(*log_);
@@ -73,6 +74,10 @@ void SessionMonitor::arm_summary() {
     if (recorder_ != nullptr) recorder_->add_comment(now, text);
     arm_summary();
   });
+}
+
+void SessionMonitor::reopen_events() {
+  if (out_) out_->reopen();
 }
 
 }  // namespace rtu::app

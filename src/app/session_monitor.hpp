@@ -34,6 +34,9 @@ class SessionMonitor {
   void start(LiveCapture& capture, PcapngRecorder* recorder);
   // The capture stopped (records flushed): last findings, and the stop event.
   void stop();
+  // SIGHUP: the event log goes on in a file opened again at its path. Throws InputError when
+  // it cannot be opened (the log goes on in the file already open).
+  void reopen_events();
 
  private:
   void arm_findings();

@@ -8,13 +8,13 @@
 
 namespace rtu {
 
-OutputStream::OutputStream(const std::string& path) : path_(path) {
+OutputStream::OutputStream(const std::string& path, Mode mode) : path_(path) {
   if (path.empty() || path == "-") {
     file_ = stdout;
     path_ = "standard output";
     return;
   }
-  file_ = std::fopen(path.c_str(), "wb");
+  file_ = std::fopen(path.c_str(), mode == Mode::kAppend ? "ab" : "wb");
   if (file_ == nullptr) {
     throw InputError(fmt::format("{}: cannot create: {}", path, std::strerror(errno)));
   }
@@ -29,6 +29,17 @@ void OutputStream::write(const fmt::memory_buffer& buffer) {
   if (buffer.size() == 0) return;
   if (failed_) return;  // the error was reported once; the run is ending
   if (std::fwrite(buffer.data(), 1, buffer.size(), file_) != buffer.size()) fail(errno);
+}
+
+void OutputStream::reopen() {
+  if (!owned_) return;
+  std::FILE* reopened = std::fopen(path_.c_str(), "ab");
+  if (reopened == nullptr) {
+    throw InputError(fmt::format("{}: cannot open again: {}", path_, std::strerror(errno)));
+  }
+  flush();
+  std::fclose(file_);
+  file_ = reopened;
 }
 
 void OutputStream::flush() {

@@ -2,7 +2,9 @@
 """`--events`, `--summary-every` and SIGHUP on `rtuscope demo` (the live session's code).
 
 The demo runs with an event log, a summary every 2 s and a recording. Midway the recording
-is moved away and rtuscope gets SIGHUP (as logrotate does it). Checks:
+and the event log are moved away and rtuscope gets SIGHUP (as logrotate does it). Checks:
+  * the event log is appended to (a line of an earlier run is kept), and after SIGHUP it
+    goes on in a new file at its path;
   * every line is one JSON object with time, bus and event first, and uses only keys that
     src/report/events.def declares;
   * timeouts and exceptions in the events equal the report's, slave by slave; every finding
@@ -50,6 +52,11 @@ def main():
     demo = None
     try:
         events_path = os.path.join(work, "events.jsonl")
+        events_moved = os.path.join(work, "events-old.jsonl")
+        # A restarted service appends to the log it finds.
+        earlier = '{"time":"2026-01-01T00:00:00.000000Z","bus":"line-7","event":"stop"}\n'
+        with open(events_path, "w") as f:
+            f.write(earlier)
         report_path = os.path.join(work, "report.json")
         capture = os.path.join(work, "bus.pcapng")
         moved = os.path.join(work, "bus-old.pcapng")
@@ -67,6 +74,7 @@ def main():
                 fail("the recording did not grow")
             time.sleep(0.1)
         os.rename(capture, moved)
+        os.rename(events_path, events_moved)
         demo.send_signal(signal.SIGHUP)
         if demo.wait(timeout=60) != 0:
             fail(f"demo exited {demo.returncode}: {open(err_path).read()}")
@@ -75,8 +83,15 @@ def main():
 
         event_keys, field_keys = declared_keys(
             os.path.join(args.source, "src", "report", "events.def"))
+        before_hangup = open(events_moved).read()
+        if not before_hangup.startswith(earlier) or not os.path.exists(events_path):
+            fail("the event log must be appended to, and opened again at its path on SIGHUP")
+        after_hangup = open(events_path).read()
+        if not after_hangup or '"event":"start"' in after_hangup:
+            fail("after SIGHUP the events must go on in a new file at the same path")
         events = []
-        for n, line in enumerate(open(events_path), 1):
+        lines = (before_hangup[len(earlier):] + after_hangup).splitlines()
+        for n, line in enumerate(lines, 1):
             e = json.loads(line)
             if list(e)[:3] != ["time", "bus", "event"]:
                 fail(f"line {n}: time, bus and event must come first: {line}")

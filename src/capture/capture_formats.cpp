@@ -9,17 +9,17 @@
 namespace rtu {
 namespace {
 
-std::unique_ptr<CaptureReader> open_text_hex(const std::string& path, WarningSink warnings) {
-  return std::make_unique<TextHexReader>(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_text_hex(const CaptureFile& file, WarningSink warnings) {
+  return std::make_unique<TextHexReader>(file, std::move(warnings));
 }
 
-std::unique_ptr<CaptureReader> open_saleae(const std::string& path, WarningSink warnings) {
-  return std::make_unique<SaleaeReader>(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_saleae(const CaptureFile& file, WarningSink warnings) {
+  return std::make_unique<SaleaeReader>(file, std::move(warnings));
 }
 
 // pcap readers warn through capture_warnings() (records cut short), not through a sink.
-std::unique_ptr<CaptureReader> open_pcap(const std::string& path, WarningSink /*warnings*/) {
-  return std::make_unique<PcapCaptureReader>(path);
+std::unique_ptr<CaptureReader> open_pcap(const CaptureFile& file, WarningSink /*warnings*/) {
+  return std::make_unique<PcapCaptureReader>(file);
 }
 
 }  // namespace

@@ -49,10 +49,10 @@ std::vector<std::string> expand_capture_paths(const std::vector<std::string>& ar
   return out;
 }
 
-std::unique_ptr<CaptureReader> open_captures(const std::vector<std::string>& paths,
+std::unique_ptr<CaptureReader> open_captures(const std::vector<CaptureFile>& files,
                                              WarningSink warnings) {
-  if (paths.size() == 1) return open_capture(paths.front(), std::move(warnings));
-  return std::make_unique<CaptureSetReader>(paths, std::move(warnings));
+  if (files.size() == 1) return open_capture(files.front(), std::move(warnings));
+  return std::make_unique<CaptureSetReader>(files, std::move(warnings));
 }
 
 std::string capture_files_help() {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
 
@@ -17,7 +18,7 @@ std::vector<std::string> expand_capture_paths(const std::vector<std::string>& ar
 
 // The reader of one file (open_capture), or of several read as one capture in time order
 // (CaptureSetReader).
-std::unique_ptr<CaptureReader> open_captures(const std::vector<std::string>& paths,
+std::unique_ptr<CaptureReader> open_captures(const std::vector<CaptureFile>& files,
                                              WarningSink warnings = print_warning_to_stderr);
 
 // capture_file_help() and how several files are read, for a command's FILE arguments.

@@ -2,7 +2,7 @@
 
 namespace rtu {
 
-PcapCaptureReader::PcapCaptureReader(const std::string& path) : importer_(path) {}
+PcapCaptureReader::PcapCaptureReader(const CaptureFile& file) : importer_(file) {}
 
 bool PcapCaptureReader::read(CaptureConsumer& to) {
   if (!importer_.next(item_)) return false;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/pcap_import.hpp"
 
@@ -13,7 +14,7 @@ namespace rtu {
 class PcapCaptureReader final : public CaptureReader {
  public:
   // Throws InputError when the file cannot be opened or its header is unusable.
-  explicit PcapCaptureReader(const std::string& path);
+  explicit PcapCaptureReader(const CaptureFile& file);
 
   bool read(CaptureConsumer& to) override;
   [[nodiscard]] std::string name() const override { return importer_.name(); }

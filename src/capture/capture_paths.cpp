@@ -111,8 +111,9 @@ std::unique_ptr<CaptureReader> open_captures(const std::vector<CaptureFile>& fil
 std::string capture_files_help() {
   return capture_file_help() +
          ". Several files, or a quoted pattern such as 'site-*.pcapng', are read in time order "
-         "as one capture. - reads standard input (zcat cap.pcapng.gz | rtuscope ... -), once, "
-         "as do a FIFO and <(...): it may be one of several files";
+         "as one capture. - reads standard input (zcat cap.pcapng.gz | rtuscope ... -); it, a FIFO "
+         "or <(...) is read once, into a temporary copy in $TMPDIR (else /tmp), and may be one "
+         "of several files";
 }
 
 }  // namespace rtu

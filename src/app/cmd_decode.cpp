@@ -37,7 +37,7 @@ void setup_decode(CLI::App& app, int& exit_code) {
   args->devices.add_to(*cmd);
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
-    const auto files = expand_capture_paths(args->files);
+    const auto files = capture_inputs(args->files);
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build(options);
     ProgressLine progress(progress_wanted(args->quiet, args->output));

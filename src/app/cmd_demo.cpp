@@ -16,6 +16,7 @@
 #include "app/live_session.hpp"
 #include "app/monitoring_options.hpp"
 #include "app/mqtt_options.hpp"
+#include "capture/capture_paths.hpp"
 #include "core/input_error.hpp"
 #include "pipeline/burst_collector.hpp"
 #include "pipeline/replay.hpp"
@@ -67,8 +68,11 @@ void run_demo(DemoArgs& args, int& exit_code) {
   ReplayOptions replay;
   const auto devices = args.devices.build_with_maps(replay);
   BurstCollector collector;
-  const CaptureInfo traffic_info = replay_capture(traffic, replay, collector);
-  if (collector.bursts.empty()) throw InputError(fmt::format("{}: no traffic to play", traffic));
+  const auto traffic_file = capture_inputs({traffic});
+  const CaptureInfo traffic_info = replay_capture(traffic_file, replay, collector);
+  if (collector.bursts.empty()) {
+    throw InputError(fmt::format("{}: no traffic to play", traffic_file.front().name));
+  }
 
   VirtualBusOptions bus_options;
   bus_options.endpoints = 3;
@@ -140,8 +144,8 @@ void setup_demo(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "demo", "Sniff a virtual RS-485 bus carrying simulated traffic, live (no hardware needed)");
   cmd->add_option("--traffic", args->traffic,
-                  "Capture whose frames are played on the bus (default: the bundled "
-                  "four-device sample)");
+                  "Capture whose frames are played on the bus; - reads standard input "
+                  "(default: the bundled four-device sample)");
   args->devices.add_to(*cmd);
   cmd->add_option("--format", args->format, "Output format")
       ->check(CLI::IsMember(format_names(record_formats())));

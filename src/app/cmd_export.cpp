@@ -50,7 +50,7 @@ void setup_export(CLI::App& app, int& exit_code) {
   args->line.add_to(*cmd);
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
-    const auto files = expand_capture_paths(args->files);
+    const auto files = capture_inputs(args->files);
     PcapExportOptions options;
     options.format = export_format_for_path(args->output).factory;
     if (options.format == PcapExportFormat::kPcap && args->raw) {

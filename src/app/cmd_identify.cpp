@@ -9,6 +9,7 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "app/line_options.hpp"
+#include "capture/capture_paths.hpp"
 #include "dissect/map_identifier.hpp"
 #include "pipeline/replay.hpp"
 
@@ -47,7 +48,7 @@ void setup_identify(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<IdentifyArgs>();
   auto* cmd = app.add_subcommand(
       "identify", "Rank, per slave, the device maps that best explain a capture's traffic");
-  cmd->add_option("file", args->file, "Capture file")->required();
+  cmd->add_option("file", args->file, "Capture file (- reads standard input)")->required();
   cmd->add_option("--dissectors", args->dissector_dirs,
                   "Folder of user device maps (*.toml), added to the bundled ones")
       ->check(CLI::ExistingDirectory);
@@ -57,7 +58,7 @@ void setup_identify(CLI::App& app, int& exit_code) {
     const ReplayOptions options = args->line.to_replay_options();
     const auto maps = DeviceOptions::load_maps(args->dissector_dirs);
     dissect::MapIdentifier identifier(maps->library);
-    replay_capture(args->file, options, identifier);
+    replay_capture(capture_inputs({args->file}), options, identifier);
     print_ranking(identifier.ranking(), args->top);
     exit_code = 0;
   });

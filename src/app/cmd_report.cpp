@@ -57,8 +57,7 @@ void setup_report(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {
-    const auto files = expand_capture_paths(args->files);
-    const CaptureOpener capture = capture_opener(files);
+    const CaptureOpener capture = capture_opener(capture_inputs(args->files));
     ReplayOptions options = args->line.to_replay_options();
     const auto devices = args->devices.build_with_maps(options);
     // The report is written at the end, so only a CSV on standard output competes with the line.

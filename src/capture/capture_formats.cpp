@@ -9,16 +9,16 @@
 namespace rtu {
 namespace {
 
-std::unique_ptr<CaptureReader> open_text_hex(const std::string& path, WarningSink warnings) {
-  return std::make_unique<TextHexReader>(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_text_hex(const CaptureFile& file, WarningSink warnings) {
+  return std::make_unique<TextHexReader>(file, std::move(warnings));
 }
 
-std::unique_ptr<CaptureReader> open_saleae(const std::string& path, WarningSink warnings) {
-  return std::make_unique<SaleaeReader>(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_saleae(const CaptureFile& file, WarningSink warnings) {
+  return std::make_unique<SaleaeReader>(file, std::move(warnings));
 }
 
-std::unique_ptr<CaptureReader> open_pcap(const std::string& path, WarningSink warnings) {
-  return std::make_unique<PcapCaptureReader>(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_pcap(const CaptureFile& file, WarningSink warnings) {
+  return std::make_unique<PcapCaptureReader>(file, std::move(warnings));
 }
 
 }  // namespace

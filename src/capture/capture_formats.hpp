@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
 #include "core/format_registry.hpp"
@@ -14,7 +15,7 @@ enum class CaptureFormat : std::uint8_t { kTextHex, kSaleaeCsv, kPcap };
 
 struct CaptureReaderFactory {
   CaptureFormat format;
-  std::unique_ptr<CaptureReader> (*open)(const std::string& path, WarningSink warnings);
+  std::unique_ptr<CaptureReader> (*open)(const CaptureFile& file, WarningSink warnings);
 };
 
 using CaptureFormatEntry = FormatEntry<CaptureReaderFactory>;

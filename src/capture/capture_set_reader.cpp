@@ -14,7 +14,8 @@
 namespace rtu {
 
 struct CaptureSetReader::File {
-  std::string path;
+  explicit File(CaptureFile file) : input(std::move(file)) {}
+  CaptureFile input;
   // From the first look: the first item's time (none when the file is empty or unreadable)
   // and what the file declares.
   std::optional<Nanos> first;
@@ -82,20 +83,19 @@ bool same_line(const LineSettings& a, const LineSettings& b) {
 
 }  // namespace
 
-CaptureSetReader::CaptureSetReader(const std::vector<std::string>& paths, WarningSink warnings,
+CaptureSetReader::CaptureSetReader(const std::vector<CaptureFile>& inputs, WarningSink warnings,
                                    Opener open)
     : open_(std::move(open)), warnings_(std::move(warnings)) {
   if (!open_) {
-    open_ = [](const std::string& path, WarningSink sink) {
-      return open_capture(path, std::move(sink));
+    open_ = [](const CaptureFile& input, WarningSink sink) {
+      return open_capture(input, std::move(sink));
     };
   }
-  files_.reserve(paths.size());
-  for (const auto& path : paths) {
-    File file;
-    file.path = path;
+  files_.reserve(inputs.size());
+  for (const auto& input : inputs) {
+    File file(input);
     try {
-      const auto reader = open_(path, [](std::string_view) {});
+      const auto reader = open_(input, [](std::string_view) {});
       Tap first(nullptr);
       if (reader->read(first)) file.first = first.t;
       file.declared = reader->declared_settings();
@@ -152,7 +152,7 @@ void CaptureSetReader::open_next() {
         throw InputError(fmt::format(
             "{}: declares the line {}, but {} declares {}: the files of one capture share "
             "one line",
-            file.path, file.declared->describe(), files_[i].path, earlier->describe()));
+            file.input.name, file.declared->describe(), files_[i].input.name, earlier->describe()));
       }
       break;
     }
@@ -163,13 +163,13 @@ void CaptureSetReader::open_next() {
       throw InputError(fmt::format(
           "{}: its first record ({}) is earlier than the last record of {} ({}): the files "
           "overlap in time, so they are not consecutive files of one capture",
-          file.path, time_text(*file.first), before.path, time_text(*last_time_)));
+          file.input.name, time_text(*file.first), before.input.name, time_text(*last_time_)));
     }
     file.silence_before = *file.first - *last_time_;
     file.previous = last_file_;
   }
   ++next_;
-  current_ = open_(file.path, warnings_);
+  current_ = open_(file.input, warnings_);
 }
 
 void CaptureSetReader::close_current() {
@@ -190,7 +190,7 @@ std::uint64_t CaptureSetReader::input_size() const {
 
 std::string CaptureSetReader::name() const {
   if (files_.empty()) return {};
-  return fmt::format("{} \u2026 {} ({} files)", files_.front().path, files_.back().path,
+  return fmt::format("{} \u2026 {} ({} files)", files_.front().input.name, files_.back().input.name,
                      files_.size());
 }
 
@@ -230,8 +230,8 @@ std::vector<std::string> CaptureSetReader::capture_warnings() const {
     if (file.silence_before) {
       const File& before = files_[file.previous];
       SetBoundary boundary;
-      boundary.before = before.path;
-      boundary.after = file.path;
+      boundary.before = before.input.name;
+      boundary.after = file.input.name;
       boundary.silence = *file.silence_before;
       boundary.longest_within = std::max(before.longest_silence, file.longest_silence);
       if (auto warning = missing_file_warning(boundary)) out.push_back(std::move(*warning));
@@ -245,7 +245,7 @@ std::vector<std::string> CaptureSetReader::capture_warnings() const {
 std::vector<std::string> CaptureSetReader::paths() const {
   std::vector<std::string> out;
   out.reserve(files_.size());
-  for (const auto& file : files_) out.push_back(file.path);
+  for (const auto& file : files_) out.push_back(file.input.name);
   return out;
 }
 

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
 
@@ -31,11 +32,11 @@ namespace rtu {
 class CaptureSetReader final : public CaptureReader {
  public:
   using Opener =
-      std::function<std::unique_ptr<CaptureReader>(const std::string& path, WarningSink warnings)>;
+      std::function<std::unique_ptr<CaptureReader>(const CaptureFile& file, WarningSink warnings)>;
 
   // Opens each file once to find its first timestamp (passing warnings silenced: they come
   // when the file is read). `open` defaults to open_capture (capture/open_capture.hpp).
-  CaptureSetReader(const std::vector<std::string>& paths, WarningSink warnings,
+  CaptureSetReader(const std::vector<CaptureFile>& files, WarningSink warnings,
                    Opener open = nullptr);
   ~CaptureSetReader() override;
   CaptureSetReader(const CaptureSetReader&) = delete;
@@ -57,7 +58,7 @@ class CaptureSetReader final : public CaptureReader {
   // Each file's own doubts, and where a file seems to be missing, in time order.
   [[nodiscard]] std::vector<std::string> capture_warnings() const override;
 
-  // The paths in the order they are read.
+  // The files' names in the order they are read.
   [[nodiscard]] std::vector<std::string> paths() const;
 
  private:

@@ -17,12 +17,12 @@ constexpr std::size_t kTypicalLine = 4096;
 
 }  // namespace
 
-LineReader::LineReader(const std::string& path) : path_(path), buffer_(new char[kBufferSize]) {
+LineReader::LineReader(const CaptureFile& file) : name_(file.name), buffer_(new char[kBufferSize]) {
   line_.reserve(kTypicalLine);  // lines straddling two fills then need no allocation
-  file_.reset(std::fopen(path.c_str(), "rb"));
-  if (!file_) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+  file_.reset(std::fopen(file.path.c_str(), "rb"));
+  if (!file_) throw InputError(fmt::format("{}: cannot open: {}", name_, std::strerror(errno)));
   std::error_code error;
-  const auto size = std::filesystem::file_size(path, error);
+  const auto size = std::filesystem::file_size(file.path, error);
   if (!error) size_ = size;
 }
 
@@ -31,7 +31,7 @@ bool LineReader::fill() {
   const std::size_t n = std::fread(buffer_.get(), 1, kBufferSize, file_.get());
   if (n < kBufferSize) {
     if (std::ferror(file_.get()) != 0) {
-      throw InputError(fmt::format("{}: read error after line {}: {}", path_, line_number_,
+      throw InputError(fmt::format("{}: read error after line {}: {}", name_, line_number_,
                                    std::strerror(errno)));
     }
     eof_ = true;
@@ -59,7 +59,7 @@ bool LineReader::next(std::string_view& line) {
       begin_ = end_;
       continued = true;
       if (line_.size() > kMaxLineLength) {
-        throw InputError(fmt::format("{}:{}: line longer than {} characters", path_,
+        throw InputError(fmt::format("{}:{}: line longer than {} characters", name_,
                                      line_number_ + 1, kMaxLineLength));
       }
       continue;
@@ -75,7 +75,7 @@ bool LineReader::next(std::string_view& line) {
     break;
   }
   if (line.size() > kMaxLineLength) {
-    throw InputError(fmt::format("{}:{}: line longer than {} characters", path_, line_number_ + 1,
+    throw InputError(fmt::format("{}:{}: line longer than {} characters", name_, line_number_ + 1,
                                  kMaxLineLength));
   }
   ++line_number_;

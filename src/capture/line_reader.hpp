@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "capture/capture_file.hpp"
+
 namespace rtu {
 
 class LineReader {
@@ -15,8 +17,8 @@ class LineReader {
   // bytes, a CSV row one byte); the limit keeps a corrupt file from eating memory.
   static constexpr std::size_t kMaxLineLength = 1U << 20U;
 
-  // Opens `path`; throws InputError "PATH: cannot open: <strerror>" when that fails.
-  explicit LineReader(const std::string& path);
+  // Opens `file`; throws InputError "NAME: cannot open: <strerror>" when that fails.
+  explicit LineReader(const CaptureFile& file);
 
   // The next line without its '\n' (and without a '\r' before it; on line 1 without a UTF-8
   // byte-order mark). The view stays valid until
@@ -26,7 +28,8 @@ class LineReader {
 
   // 1-based number of the line last returned by next().
   [[nodiscard]] std::uint64_t line_number() const { return line_number_; }
-  [[nodiscard]] const std::string& path() const { return path_; }
+  // What messages call the file (CaptureFile::name).
+  [[nodiscard]] const std::string& name() const { return name_; }
   // Bytes of the file up to the end of the line last returned (for progress), and the file's
   // size when it was opened (0 when it cannot be told, e.g. a pipe).
   [[nodiscard]] std::uint64_t bytes_read() const { return fetched_ - (end_ - begin_); }
@@ -38,7 +41,7 @@ class LineReader {
   struct FileCloser {
     void operator()(std::FILE* f) const { std::fclose(f); }
   };
-  std::string path_;
+  std::string name_;
   std::unique_ptr<std::FILE, FileCloser> file_;
   std::unique_ptr<char[]> buffer_;
   std::size_t begin_ = 0;  // unread data in buffer_ is [begin_, end_)

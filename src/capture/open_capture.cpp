@@ -67,17 +67,18 @@ std::string_view unusable_kind(std::string_view head) {
 
 }  // namespace
 
-CaptureFormat detect_capture_format(const std::string& path) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
+CaptureFormat detect_capture_format(const CaptureFile& capture) {
+  const std::string& name = capture.name;
+  std::FILE* file = std::fopen(capture.path.c_str(), "rb");
   if (file == nullptr)
-    throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+    throw InputError(fmt::format("{}: cannot open: {}", name, std::strerror(errno)));
   std::array<char, kSniffSize> buffer{};
   const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), file);
   const bool read_failed = std::ferror(file) != 0;
   const int read_errno = errno;
   std::fclose(file);
   if (read_failed)
-    throw InputError(fmt::format("{}: cannot read: {}", path, std::strerror(read_errno)));
+    throw InputError(fmt::format("{}: cannot read: {}", name, std::strerror(read_errno)));
   std::string_view head(buffer.data(), n);
 
   if (is_pcap_magic(head)) return CaptureFormat::kPcap;
@@ -85,7 +86,7 @@ CaptureFormat detect_capture_format(const std::string& path) {
     throw InputError(
         fmt::format("{}: the file {}; expected a text hex capture or a Saleae Logic "
                     "CSV export",
-                    path, what));
+                    name, what));
   }
   if (starts_with(head, "\xEF\xBB\xBF")) head.remove_prefix(3);  // UTF-8 byte-order mark
   const std::string_view first_line = head.substr(0, head.find('\n'));
@@ -97,14 +98,14 @@ CaptureFormat detect_capture_format(const std::string& path) {
       return CaptureFormat::kTextHex;
     }
   }
-  if (const auto* by_extension = capture_format_for_path(path)) {
+  if (const auto* by_extension = capture_format_for_path(name)) {
     return by_extension->factory.format;
   }
   return CaptureFormat::kTextHex;
 }
 
-std::unique_ptr<CaptureReader> open_capture(const std::string& path, WarningSink warnings) {
-  return capture_format(detect_capture_format(path)).factory.open(path, std::move(warnings));
+std::unique_ptr<CaptureReader> open_capture(const CaptureFile& file, WarningSink warnings) {
+  return capture_format(detect_capture_format(file)).factory.open(file, std::move(warnings));
 }
 
 }  // namespace rtu

@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_formats.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
@@ -18,14 +19,15 @@ namespace rtu {
 // - otherwise by extension (capture_formats(): .csv → kSaleaeCsv, .pcap/.pcapng/.cap → kPcap),
 //   anything else → kTextHex, whose reader then says exactly where the content is not what
 //   it expects.
-// Throws InputError "PATH: cannot open: <strerror>" when the file cannot be read, and
-// "PATH: the file is gzip-compressed; ..." (also zstd, xz, bzip2, zip, UTF-16 text) for files
-// that no reader can use but people do hand over.
-CaptureFormat detect_capture_format(const std::string& path);
+// Throws InputError "NAME: cannot open: <strerror>" when the file cannot be read, and
+// "NAME: the file is gzip-compressed; ..." (also zstd, xz, bzip2, zip, UTF-16 text) for files
+// that no reader can use but people do hand over. The extension is the name's: a temporary
+// copy of a piped input has none of its own.
+CaptureFormat detect_capture_format(const CaptureFile& file);
 
-// The reader for `path` (its format's factory in capture_formats()). Throws InputError when
+// The reader for `file` (its format's factory in capture_formats()). Throws InputError when
 // the file cannot be opened or its format has no reader here.
-std::unique_ptr<CaptureReader> open_capture(const std::string& path,
+std::unique_ptr<CaptureReader> open_capture(const CaptureFile& file,
                                             WarningSink warnings = print_warning_to_stderr);
 
 }  // namespace rtu

@@ -4,8 +4,8 @@
 
 namespace rtu {
 
-PcapCaptureReader::PcapCaptureReader(const std::string& path, WarningSink warnings)
-    : importer_(path), warnings_(std::move(warnings)), record_clamp_(importer_.name(), warnings_) {}
+PcapCaptureReader::PcapCaptureReader(const CaptureFile& file, WarningSink warnings)
+    : importer_(file), warnings_(std::move(warnings)), record_clamp_(importer_.name(), warnings_) {}
 
 RecordTimeClamp& PcapCaptureReader::chunk_clamp(std::uint8_t port) {
   while (chunk_clamps_.size() <= port) chunk_clamps_.emplace_back(importer_.name(), warnings_);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
 #include "capture/pcap_import.hpp"
@@ -15,7 +16,7 @@ class PcapCaptureReader final : public CaptureReader {
  public:
   // Throws InputError when the file cannot be opened or its header is unusable. Times that
   // go backwards are clamped and reported to `warnings` (RecordTimeClamp).
-  PcapCaptureReader(const std::string& path, WarningSink warnings);
+  PcapCaptureReader(const CaptureFile& file, WarningSink warnings);
 
   bool read(CaptureConsumer& to) override;
   [[nodiscard]] std::string name() const override { return importer_.name(); }

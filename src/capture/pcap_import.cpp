@@ -106,9 +106,9 @@ std::string cut_records_warning(const std::string& file, const CutRecords& cut) 
       cut.count > 1 ? fmt::format(" ({} records cut)", cut.count) : "");
 }
 
-PcapImporter::PcapImporter(const std::string& path)
+PcapImporter::PcapImporter(const CaptureFile& file)
     : reader_(std::make_unique<PcapReader>(
-          path, std::vector<std::uint16_t>{pcap::kLinkTypeRtacSerial, pcap::kLinkTypeUpperPdu})) {}
+          file, std::vector<std::uint16_t>{pcap::kLinkTypeRtacSerial, pcap::kLinkTypeUpperPdu})) {}
 
 PcapImporter::~PcapImporter() = default;
 

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/pcap_reader.hpp"
 #include "core/chunk.hpp"
 #include "core/input_error.hpp"
@@ -55,7 +56,7 @@ struct PcapItem {
 
 class PcapImporter {
  public:
-  explicit PcapImporter(const std::string& path);
+  explicit PcapImporter(const CaptureFile& file);
   ~PcapImporter();
   PcapImporter(const PcapImporter&) = delete;
   PcapImporter& operator=(const PcapImporter&) = delete;

@@ -466,19 +466,19 @@ struct PcapReader::Impl {
 
 constexpr std::size_t kFileBufferSize = 256 * 1024;
 
-PcapReader::PcapReader(const std::string& path, std::vector<std::uint16_t> accepted_link_types)
+PcapReader::PcapReader(const CaptureFile& input, std::vector<std::uint16_t> accepted_link_types)
     : impl_(std::make_unique<Impl>()) {
   auto file = std::make_unique<std::ifstream>();
   // A larger buffer than the default few KB: fewer read() calls on large captures.
   impl_->file_buffer.resize(kFileBufferSize);
   file->rdbuf()->pubsetbuf(impl_->file_buffer.data(),
                            static_cast<std::streamsize>(impl_->file_buffer.size()));
-  file->open(path, std::ios::binary);
-  if (!*file) throw InputError(fmt::format("{}: cannot open file", path));
+  file->open(input.path, std::ios::binary);
+  if (!*file) throw InputError(fmt::format("{}: cannot open file", input.name));
   impl_->in = std::move(file);
-  impl_->name = path;
+  impl_->name = input.name;
   std::error_code error;
-  const auto size = std::filesystem::file_size(path, error);
+  const auto size = std::filesystem::file_size(input.path, error);
   if (!error) impl_->size = size;
   impl_->accepted = std::move(accepted_link_types);
   impl_->open();

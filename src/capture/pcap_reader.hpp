@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "core/time.hpp"
 
 namespace rtu {
@@ -43,7 +44,7 @@ class PcapReader {
   // `accepted_link_types`: packets on other link types throw InputError naming the offset
   // of the interface (IDB or pcap header) that declared them; empty = accept all.
   // Throws InputError if the file cannot be opened or is neither pcap nor pcapng.
-  explicit PcapReader(const std::string& path, std::vector<std::uint16_t> accepted_link_types = {});
+  explicit PcapReader(const CaptureFile& file, std::vector<std::uint16_t> accepted_link_types = {});
   PcapReader(std::unique_ptr<std::istream> in, std::string name,
              std::vector<std::uint16_t> accepted_link_types = {});
   ~PcapReader();

@@ -82,14 +82,14 @@ SaleaeLayout recognise_saleae_header(std::string_view first_line) {
   return classify(header);
 }
 
-SaleaeReader::SaleaeReader(const std::string& path, WarningSink warnings)
-    : lines_(path), clamp_(path, std::move(warnings)) {
+SaleaeReader::SaleaeReader(const CaptureFile& file, WarningSink warnings)
+    : lines_(file), clamp_(file.name, std::move(warnings)) {
   read_header();
 }
 
 void SaleaeReader::fail(std::size_t column0, std::string_view what) const {
   throw InputError(
-      fmt::format("{}:{}:{}: {}", lines_.path(), lines_.line_number(), column0 + 1, what));
+      fmt::format("{}:{}:{}: {}", lines_.name(), lines_.line_number(), column0 + 1, what));
 }
 
 void SaleaeReader::fail_field(std::size_t index, std::string_view expected) const {
@@ -103,7 +103,7 @@ void SaleaeReader::read_header() {
     throw InputError(
         fmt::format("{}:1: expected a Saleae Logic export header ('{}' or '{}'), "
                     "found an empty file",
-                    lines_.path(), kLegacyHeader, kDataTableHeader));
+                    lines_.name(), kLegacyHeader, kDataTableHeader));
   }
   line = strip_bom(line);
   if (const std::size_t bad = header_.parse(line); bad != CsvRow::kOk) {

@@ -31,6 +31,7 @@
 #include <string>
 #include <string_view>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_warnings.hpp"
 #include "capture/chunk_source.hpp"
 #include "capture/csv_row.hpp"
@@ -53,13 +54,13 @@ class SaleaeReader final : public ChunkSource {
  public:
   // Reads and checks the header; throws InputError when the file cannot be opened, the header
   // is not a supported Saleae export, or a needed column is missing.
-  explicit SaleaeReader(const std::string& path, WarningSink warnings = print_warning_to_stderr);
+  explicit SaleaeReader(const CaptureFile& file, WarningSink warnings = print_warning_to_stderr);
 
   bool next(Chunk& out) override;
   [[nodiscard]] TimingKind timing_kind() const override { return TimingKind::kPerByteExact; }
   // Step of the finest start time seen so far (most decimals), as for text captures.
   [[nodiscard]] Nanos timestamp_precision() const override;
-  [[nodiscard]] std::string name() const override { return lines_.path(); }
+  [[nodiscard]] std::string name() const override { return lines_.name(); }
   [[nodiscard]] std::uint64_t bytes_read() const override { return lines_.bytes_read(); }
   [[nodiscard]] std::uint64_t input_size() const override { return lines_.size(); }
   [[nodiscard]] SaleaeLayout layout() const { return layout_; }

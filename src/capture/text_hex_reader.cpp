@@ -59,8 +59,8 @@ std::optional<Parity> parse_parity_word(std::string_view text) {
 
 }  // namespace
 
-TextHexReader::TextHexReader(const std::string& path, WarningSink warnings)
-    : lines_(path), clamp_(path, std::move(warnings)) {
+TextHexReader::TextHexReader(const CaptureFile& file, WarningSink warnings)
+    : lines_(file), clamp_(file.name, std::move(warnings)) {
   bytes_.reserve(4096);  // a read() rarely returns more; longer lines grow it once
   // Read up to the first data line, so that the settings comments before it are known.
   have_pending_ = read_data_line();
@@ -68,7 +68,7 @@ TextHexReader::TextHexReader(const std::string& path, WarningSink warnings)
 
 void TextHexReader::fail(std::size_t column0, std::string_view what) const {
   throw InputError(
-      fmt::format("{}:{}:{}: {}", lines_.path(), lines_.line_number(), column0 + 1, what));
+      fmt::format("{}:{}:{}: {}", lines_.name(), lines_.line_number(), column0 + 1, what));
 }
 
 bool TextHexReader::next(Chunk& out) {

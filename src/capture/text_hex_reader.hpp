@@ -29,6 +29,7 @@
 #include <string_view>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_warnings.hpp"
 #include "capture/chunk_source.hpp"
 #include "capture/line_reader.hpp"
@@ -39,7 +40,7 @@ class TextHexReader final : public ChunkSource {
  public:
   // Throws InputError when the file cannot be opened. Settings comments before the first data
   // line are read here already, so declared_settings() is known right after construction.
-  explicit TextHexReader(const std::string& path, WarningSink warnings = print_warning_to_stderr);
+  explicit TextHexReader(const CaptureFile& file, WarningSink warnings = print_warning_to_stderr);
 
   bool next(Chunk& out) override;
   [[nodiscard]] std::optional<LineSettings> declared_settings() const override;
@@ -49,7 +50,7 @@ class TextHexReader final : public ChunkSource {
   // are common, and there fewer decimals do not mean a coarser clock. How fine the clock
   // really ticks is for the decoder to estimate from the data.
   [[nodiscard]] Nanos timestamp_precision() const override;
-  [[nodiscard]] std::string name() const override { return lines_.path(); }
+  [[nodiscard]] std::string name() const override { return lines_.name(); }
   [[nodiscard]] std::uint64_t bytes_read() const override { return lines_.bytes_read(); }
   [[nodiscard]] std::uint64_t input_size() const override { return lines_.size(); }
 

@@ -196,22 +196,27 @@ CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& optio
   return survey.info;
 }
 
-CaptureOpener capture_opener(const std::string& path) {
-  return [path](WarningSink warnings) { return open_capture(path, std::move(warnings)); };
+CaptureOpener capture_opener(const CaptureFile& file) {
+  return [file](WarningSink warnings) { return open_capture(file, std::move(warnings)); };
 }
 
-CaptureOpener capture_opener(const std::vector<std::string>& paths) {
-  return [paths](WarningSink warnings) { return open_captures(paths, std::move(warnings)); };
+CaptureOpener capture_opener(const std::vector<CaptureFile>& files) {
+  return [files](WarningSink warnings) { return open_captures(files, std::move(warnings)); };
 }
 
-CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options,
+CaptureInfo replay_capture(const CaptureFile& file, const ReplayOptions& options,
                            RecordSink& sink) {
-  return replay_capture(capture_opener(path), options, sink);
+  return replay_capture(capture_opener(file), options, sink);
+}
+
+CaptureInfo replay_capture(const std::vector<CaptureFile>& files, const ReplayOptions& options,
+                           RecordSink& sink) {
+  return replay_capture(capture_opener(files), options, sink);
 }
 
 CaptureInfo replay_capture(const std::vector<std::string>& paths, const ReplayOptions& options,
                            RecordSink& sink) {
-  return replay_capture(capture_opener(paths), options, sink);
+  return replay_capture(std::vector<CaptureFile>(paths.begin(), paths.end()), options, sink);
 }
 
 }  // namespace rtu

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
 #include "framing/capture_info.hpp"
@@ -76,19 +77,22 @@ CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& opt
 void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
                     const ReplayOptions& options, RecordSink& sink);
 
-// Opens the file `path`, or the files `paths` as one capture in time order
-// (capture/capture_paths.hpp), by the reader of their format.
-CaptureOpener capture_opener(const std::string& path);
-CaptureOpener capture_opener(const std::vector<std::string>& paths);
+// Opens the capture `file`, or the captures `files` as one capture in time order
+// (capture/capture_paths.hpp), by the reader of their format. The opener keeps what the
+// files refer to (a temporary copy of piped input) readable for as long as it lives.
+CaptureOpener capture_opener(const CaptureFile& file);
+CaptureOpener capture_opener(const std::vector<CaptureFile>& files);
 
 // Decodes the capture `open` reads into `sink` and returns what was learned about it.
 // Throws InputError for unusable input (after delivering every record before the damage).
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
                            RecordSink& sink);
-// The same for the file `path`, read by the reader of its format (open_capture).
-CaptureInfo replay_capture(const std::string& path, const ReplayOptions& options, RecordSink& sink);
+// The same for the capture `file`, read by the reader of its format (open_capture).
+CaptureInfo replay_capture(const CaptureFile& file, const ReplayOptions& options, RecordSink& sink);
 // The same for several files read as one capture in time order (capture/capture_paths.hpp);
-// one path reads exactly as above.
+// one file reads exactly as above.
+CaptureInfo replay_capture(const std::vector<CaptureFile>& files, const ReplayOptions& options,
+                           RecordSink& sink);
 CaptureInfo replay_capture(const std::vector<std::string>& paths, const ReplayOptions& options,
                            RecordSink& sink);
 

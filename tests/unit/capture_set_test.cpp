@@ -194,7 +194,7 @@ TEST(CaptureSet, FilesAreReadInTimeOrderWhateverTheirNamesOrOrder) {
   std::reverse(given.begin(), given.end());
   std::swap(given[0], given[2]);
 
-  CaptureSetReader reader(given, [](std::string_view) {});
+  CaptureSetReader reader({given.begin(), given.end()}, [](std::string_view) {});
   EXPECT_EQ(reader.paths(), renamed);
 
   Decoded whole;

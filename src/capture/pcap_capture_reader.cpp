@@ -7,7 +7,7 @@ namespace rtu {
 PcapCaptureReader::PcapCaptureReader(const CaptureFile& file, WarningSink warnings)
     : importer_(file), warnings_(std::move(warnings)), record_clamp_(importer_.name(), warnings_) {}
 
-RecordTimeClamp& PcapCaptureReader::chunk_clamp(std::uint8_t port) {
+BackwardTimeClamp& PcapCaptureReader::chunk_clamp(std::uint8_t port) {
   while (chunk_clamps_.size() <= port) chunk_clamps_.emplace_back(importer_.name(), warnings_);
   return chunk_clamps_[port];
 }
@@ -21,15 +21,16 @@ bool PcapCaptureReader::read(CaptureConsumer& to) {
   if (precision_ == 0 || item_.resolution < precision_) precision_ = item_.resolution;
   switch (item_.kind) {
     case PcapItem::Kind::kChunk:
-      item_.chunk.t_end = chunk_clamp(item_.chunk.port).admit(item_.chunk.t_end, item_.offset);
+      item_.chunk.t_end =
+          chunk_clamp(item_.chunk.port).admit_at_offset(item_.chunk.t_end, item_.offset);
       to.on_chunk(item_.chunk);
       break;
     case PcapItem::Kind::kFrame:
-      item_.t_start = record_clamp_.admit(item_.t_start, item_.offset);
+      item_.t_start = record_clamp_.admit_at_offset(item_.t_start, item_.offset);
       to.on_frame(item_.bytes, item_.t_start, item_.offset);
       break;
     case PcapItem::Kind::kNoise:
-      item_.t_start = record_clamp_.admit(item_.t_start, item_.offset);
+      item_.t_start = record_clamp_.admit_at_offset(item_.t_start, item_.offset);
       to.on_noise(item_.bytes, item_.t_start, item_.offset);
       break;
     case PcapItem::Kind::kEnd: to.on_end(item_.t_start); break;

@@ -15,7 +15,7 @@ namespace rtu {
 class PcapCaptureReader final : public CaptureReader {
  public:
   // Throws InputError when the file cannot be opened or its header is unusable. Times that
-  // go backwards are clamped and reported to `warnings` (RecordTimeClamp).
+  // go backwards are clamped and reported to `warnings` (BackwardTimeClamp).
   PcapCaptureReader(const CaptureFile& file, WarningSink warnings);
 
   bool read(CaptureConsumer& to) override;
@@ -39,7 +39,7 @@ class PcapCaptureReader final : public CaptureReader {
   [[nodiscard]] std::vector<std::string> capture_warnings() const override;
 
  private:
-  RecordTimeClamp& chunk_clamp(std::uint8_t port);
+  BackwardTimeClamp& chunk_clamp(std::uint8_t port);
 
   PcapImporter importer_;
   PcapItem item_;
@@ -47,8 +47,8 @@ class PcapCaptureReader final : public CaptureReader {
   WarningSink warnings_;
   // Frame and noise records are one stream; each port's reads are another (the two ports of
   // a recording are read by two threads, and are put in order by the decoder).
-  RecordTimeClamp record_clamp_;
-  std::vector<RecordTimeClamp> chunk_clamps_;
+  BackwardTimeClamp record_clamp_;
+  std::vector<BackwardTimeClamp> chunk_clamps_;
 };
 
 }  // namespace rtu

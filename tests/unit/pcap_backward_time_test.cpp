@@ -110,10 +110,9 @@ TEST(PcapBackwardTime, ManyAreCountedAfterTheFirstFew) {
   std::vector<Timed> items;
   for (int i = 0; i < 20; ++i) items.push_back({kStart + (i % 2 == 0 ? 1000 : 0) * kMs, kRequest});
   const auto warnings = warnings_of(capture_of(dir, pcap::kLinkTypeUpperPdu, items));
-  ASSERT_EQ(warnings.size(), static_cast<std::size_t>(RecordTimeClamp::kDetailed) + 1);
-  EXPECT_NE(
-      warnings.back().find("5 more record timestamps went backwards and were clamped (10 in all)"),
-      std::string::npos)
+  ASSERT_EQ(warnings.size(), static_cast<std::size_t>(BackwardTimeClamp::kDetailed) + 1);
+  EXPECT_NE(warnings.back().find("5 more timestamps went backwards and were clamped (10 in all)"),
+            std::string::npos)
       << warnings.back();
 }
 

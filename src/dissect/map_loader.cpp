@@ -735,12 +735,16 @@ void read_live_section(const toml::table& t, LiveConfig& live, Fail& fail) {
     }
     if (known) continue;
     if (k.str() == "port") {
+      // An empty path would only fail later, as "no such serial port ''".
       if (const auto* s = v.as_string()) {
+        if (s->get().empty()) fail(v, "[live] port must be a path, e.g. \"/dev/ttyUSB0\"");
         live.ports = {s->get()};
       } else if (const auto* a = v.as_array(); a != nullptr && !a->empty() && a->size() <= 2) {
         live.ports.clear();
         for (auto&& p : *a) {
-          if (!p.is_string()) fail(p, "[live] port must be a path or a list of one or two");
+          if (!p.is_string() || p.as_string()->get().empty()) {
+            fail(p, "[live] port must be a path or a list of one or two");
+          }
           live.ports.push_back(p.as_string()->get());
         }
       } else {

@@ -415,8 +415,7 @@ namespace {
 // wait for an answer and time out.
 TEST(ImportBytesKept, EmptyUpperPduRecordsHoldNoFrame) {
   TempDir dir;
-  const auto path =
-      upper_pdu_capture(dir, {{kRequest}, {Bytes{}}, {kResponse}, {Bytes{}, "data"}});
+  const auto path = upper_pdu_capture(dir, {{kRequest}, {Bytes{}}, {kResponse}, {Bytes{}, "data"}});
   const auto records = decode(path);
   expect_records(records, {{RecordKind::kFrame, kRequest}, {RecordKind::kFrame, kResponse}});
 }

@@ -108,6 +108,7 @@ void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, N
     begin_ = 0;
     end_ = n;
   }
+  settled_.reset((consumed_ + buffered()) % kWindow);  // a new position, not looked at yet
   bytes_[end_] = value;
   info_[end_] = ByteInfo{t_end, gap_before, origin, chunk_size, errors};
   ++end_;
@@ -170,23 +171,40 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
                                        bool* pending) const {
   const std::size_t avail = buffered() - pos;
   const std::size_t limit = std::min(avail, kMaxAdu);
-  std::uint16_t crc = kCrcInit;
-  for (std::size_t len = 1; len <= limit; ++len) {
-    if (len > 1 && boundary_at(pos + len - 1)) return 0;  // a frame ends at a silence
-    crc = crc16_update(crc, byte_at(pos + len - 1));
-    if (len < kMinAdu || crc != 0) continue;
+  // Extend the scan from `pos` over the bytes that came since it was last looked at.
+  CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
+  while (!scan.ended_at_silence && scan.scanned < limit) {
+    const std::size_t len = scan.scanned + 1U;
+    if (len > 1 && boundary_at(pos + len - 1)) {
+      scan.ended_at_silence = true;  // a frame ends at a silence
+      break;
+    }
+    scan.crc = crc16_update(scan.crc, byte_at(pos + len - 1));
+    scan.scanned = static_cast<std::uint16_t>(len);
+    if (len >= kMinAdu && scan.crc == 0) scan.note_zero(len);
+  }
+  // Where the CRC holds, a frame ends if a silence or another frame follows.
+  std::size_t found = 0;
+  const bool decided = scan.any_zero_length([&](std::size_t len) {
     const std::size_t next = pos + len;
     if (next == buffered()) {
-      if (at_end) return len;
-      *pending = true;
-      return 0;
+      if (at_end) {
+        found = len;
+      } else {
+        *pending = true;
+      }
+      return true;
     }
     bool next_pending = false;
     if (boundary_at(next) || confirmed_length(next, at_end, depth - 1, &next_pending) > 0) {
-      return len;
+      found = len;
+      return true;
     }
-  }
-  if (!at_end && avail < kMaxAdu) *pending = true;
+    if (next_pending) answer_may_change_ = true;  // the frame after may still come
+    return false;
+  });
+  if (decided) return found;
+  if (!scan.ended_at_silence && !at_end && avail < kMaxAdu) *pending = true;
   return 0;
 }
 
@@ -232,10 +250,23 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_d
   // A frame whose byte count lies (e.g. a vendor's FC10 with 13 data bytes under a count
   // of 12) fits no length rule, yet its CRC holds up to a silence or to the next frame.
   if (generic_depth > 0 && !tried_generic && !*pending) {
-    bool ignored = false;
-    return generic_crc_length(pos, at_end, generic_depth, &ignored);
+    bool more_may_confirm = false;
+    const std::size_t length = generic_crc_length(pos, at_end, generic_depth, &more_may_confirm);
+    if (more_may_confirm) answer_may_change_ = true;
+    return length;
   }
   return 0;
+}
+
+std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending) {
+  const std::size_t slot = (consumed_ + pos) % kWindow;
+  if (settled_.test(slot)) return 0;
+  answer_may_change_ = false;
+  const std::size_t length = confirmed_length(pos, at_end, kGenericDepth, pending);
+  // Only a search that waited for nothing is final: at the end of input, too few bytes
+  // are a "no" that more bytes could turn into a "yes".
+  if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_.set(slot);
+  return length;
 }
 
 Framer::Verdict Framer::decide_head(bool at_end) {
@@ -243,7 +274,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   const bool forced = at_end || n >= kMaxPending;
 
   bool head_pending = false;
-  const std::size_t head_len = confirmed_length(0, at_end, kGenericDepth, &head_pending);
+  const std::size_t head_len = settled_or_confirmed_length(0, at_end, &head_pending);
   if (head_len > 0) {
     emit_frame(head_len);
     return Verdict::kEmitted;
@@ -252,8 +283,16 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   if (head_pending && !forced) {
     // The head may still become a frame. Give up on it early only where a silence the
     // timestamps show is followed by a frame the CRC confirms.
-    for (std::size_t p = 1; p < n; ++p) {
-      if (!boundary_at(p)) continue;
+    // Positions already found silent-free need no second look.
+    std::size_t p = 1;
+    if (silence_search_from_ > consumed_ + 1) p = silence_search_from_ - consumed_;
+    bool all_silent_free = true;
+    for (; p < n; ++p) {
+      if (!boundary_at(p)) {
+        if (all_silent_free) silence_search_from_ = consumed_ + p + 1;
+        continue;
+      }
+      all_silent_free = false;
       bool pending = false;
       if (confirmed_length(p, at_end, kGenericDepth, &pending) > 0) {
         classify_span(p);
@@ -267,7 +306,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   std::size_t first_pending = 0;
   for (std::size_t p = std::max<std::size_t>(1, scan_resume_); p < n; ++p) {
     bool pending = false;
-    if (confirmed_length(p, at_end, kGenericDepth, &pending) > 0) {
+    if (settled_or_confirmed_length(p, at_end, &pending) > 0) {
       scan_resume_ = 1;
       classify_span(p);
       return Verdict::kEmitted;
@@ -413,6 +452,8 @@ void Framer::learn_from(std::size_t length) {
     if (b.gap_before == kUnknownTime || b.gap_before <= resolution_) continue;
     if (b.chunk_size < 2 && info_at(i - 1).chunk_size < 2) continue;
     resolution_ = b.gap_before;
+    silence_search_from_ = 0;  // silences are judged anew with it
+    settled_.reset();
   }
 }
 
@@ -473,6 +514,7 @@ bool Framer::is_turnaround_glitch(const Record& noise) const {
 
 void Framer::consume(std::size_t length) {
   begin_ += length;
+  consumed_ += length;
   if (begin_ == end_) begin_ = end_ = 0;
   scan_resume_ = scan_resume_ > length ? scan_resume_ - length : 1;
 }

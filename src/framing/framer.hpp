@@ -21,6 +21,7 @@
 #include <cstdint>
 
 #include "core/chunk.hpp"
+#include "framing/crc_scan_cache.hpp"
 #include "framing/record.hpp"
 #include "serial/line_settings.hpp"
 
@@ -99,6 +100,8 @@ class Framer {
   // by what follows them (a silence, or a further confirmed frame, up to that depth).
   std::size_t confirmed_length(std::size_t pos, bool at_end, int generic_depth,
                                bool* pending) const;
+  // confirmed_length() at full depth, skipping positions already known to be no start.
+  std::size_t settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending);
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
@@ -131,6 +134,16 @@ class Framer {
   std::array<ByteInfo, kWindow> info_{};
   std::size_t begin_ = 0;
   std::size_t end_ = 0;
+  std::uint64_t consumed_ = 0;  // bytes emitted so far: the absolute position of begin_
+  // Positions from here on (absolute) may show a silence; those before it, down to the
+  // window's second byte, were looked at with the current resolution and do not.
+  std::uint64_t silence_search_from_ = 0;
+  mutable CrcScanCache crc_scans_;
+  // Window positions (absolute modulo kWindow) known not to start a confirmable frame
+  // whatever bytes come next: searches skip them. Cleared when the resolution changes.
+  std::bitset<kWindow> settled_;
+  // Set during a search when a frame it depends on may still be completed by more bytes.
+  mutable bool answer_may_change_ = false;
 
   Nanos last_byte_end_ = kUnknownTime;  // end of the newest byte pushed
   Nanos last_record_end_ = kUnknownTime;

@@ -2,13 +2,24 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+#include <cstdint>
+#include <system_error>
+
 #include "core/input_error.hpp"
 
 namespace rtu::app {
 
 void LineOptions::add_to(CLI::App& command, bool with_resolution) {
-  command.add_option("--baud", baud, "Baud rate (default: from the file, else 9600)")
-      ->check(CLI::Range(50U, 20000000U));
+  auto_baud_allowed = with_resolution;
+  if (with_resolution) {
+    command.add_option("--baud", baud,
+                       "Baud rate, or 'auto' to infer it (and the character size) from the byte "
+                       "timing (default: from the file, else inferred where bytes have their own "
+                       "timestamps, else 9600)");
+  } else {
+    command.add_option("--baud", baud, "Baud rate (default: 9600; 'rtuscope probe' finds it)");
+  }
   command.add_option("--parity", parity, "Parity N|E|O (default: from the file, else E)");
   command.add_option("--stop", stop_bits, "Stop bits 1|2 (default: from the file, else 1)")
       ->check(CLI::IsMember({1U, 2U}));
@@ -26,7 +37,18 @@ void LineOptions::add_to(CLI::App& command, bool with_resolution) {
 
 ReplayOptions LineOptions::to_replay_options() const {
   ReplayOptions options;
-  options.overrides.baud = baud;
+  if (baud == "auto" && auto_baud_allowed) {
+    options.overrides.infer_baud = true;
+  } else if (!baud.empty()) {
+    std::uint32_t rate = 0;
+    const auto* end = baud.data() + baud.size();
+    const auto [ptr, ec] = std::from_chars(baud.data(), end, rate);
+    if (ec != std::errc{} || ptr != end || rate < 50 || rate > 20000000) {
+      throw InputError(fmt::format("--baud: expected a rate from 50 to 20000000{}, found '{}'",
+                                   auto_baud_allowed ? " or 'auto'" : "", baud));
+    }
+    options.overrides.baud = rate;
+  }
   if (!parity.empty()) {
     options.overrides.parity = parse_parity(parity);
     if (!options.overrides.parity) {

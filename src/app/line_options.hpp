@@ -10,12 +10,13 @@
 namespace rtu::app {
 
 struct LineOptions {
-  std::optional<std::uint32_t> baud;
+  std::string baud;  // a rate, or "auto" where the command replays a capture
   std::string parity;
   std::optional<unsigned> stop_bits;
   double timeout_ms = 1000.0;
   std::optional<double> resolution_ms;
   const CLI::Option* timeout_option = nullptr;  // tells whether --timeout-ms was given
+  bool auto_baud_allowed = false;               // a capture, not a port: its timing can tell
 
   // `with_resolution`: offer --resolution-ms (not for live ports, whose resolution is
   // measured).

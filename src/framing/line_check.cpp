@@ -130,6 +130,27 @@ void LineCheck::add(const Chunk& chunk) {
 }
 
 std::optional<Nanos> LineCheck::byte_spacing(Nanos precision) const {
+  const auto cluster = densest_cluster(precision);
+  if (!cluster) return std::nullopt;
+  return cluster->spacing;
+}
+
+std::optional<InferredLine> LineCheck::infer_line(
+    Nanos precision, std::optional<std::uint32_t> bits_per_char) const {
+  const auto cluster = densest_cluster(precision);
+  if (!cluster) return std::nullopt;
+  std::array<std::uint32_t, 3> sizes = {11, 10, 12};
+  const std::size_t tries = bits_per_char ? 1 : sizes.size();
+  if (bits_per_char) sizes[0] = *bits_per_char;
+  for (std::size_t i = 0; i < tries; ++i) {
+    if (auto baud = nearest_standard_baud(rate_at(cluster->spacing, sizes[i]))) {
+      return InferredLine{*baud, sizes[i], cluster->spacing, cluster->count, spacings_};
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<LineCheck::Cluster> LineCheck::densest_cluster(Nanos precision) const {
   // Same bar as the timing estimator: up to 2% of batched reads leave per-byte timing intact.
   if (chunks_ == 0 || multi_byte_chunks_ * 50 > chunks_) return std::nullopt;
   std::uint64_t best_count = 0;
@@ -155,7 +176,7 @@ std::optional<Nanos> LineCheck::byte_spacing(Nanos precision) const {
   // Bytes stamped closer than the timestamps can show, or less than 1 µs apart, are reads
   // stamped one by one, not a line's characters.
   if (spacing < kNanosPerMicro || spacing < precision * 10) return std::nullopt;
-  return spacing;
+  return Cluster{spacing, best_count};
 }
 
 std::optional<std::string> LineCheck::warning(const LineSettings& line, Nanos precision) const {

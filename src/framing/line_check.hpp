@@ -25,6 +25,15 @@
 
 namespace rtu {
 
+// The line a capture's byte timing points to: a standard rate at one character size.
+struct InferredLine {
+  std::uint32_t baud = 0;
+  std::uint32_t bits_per_char = 0;  // 10 (8N1), 11 (8E1, 8O1, 8N2) or 12 (8E2, 8O2)
+  Nanos spacing = 0;                // measured spacing of back-to-back bytes
+  std::uint64_t agreeing = 0;       // spacings within the cluster around it
+  std::uint64_t spacings = 0;       // spacings measured in all
+};
+
 class LineCheck {
  public:
   void add(const Chunk& chunk);
@@ -34,6 +43,12 @@ class LineCheck {
   // `precision`: the step the timestamps are written with (0 = unknown).
   [[nodiscard]] std::optional<Nanos> byte_spacing(Nanos precision) const;
 
+  // The standard rate and character size the measured spacing fits, when it can be measured
+  // and fits one. `bits_per_char` fixes the character size (the user gave parity or stop
+  // bits); else 11 bits (Modbus's 8E1) is tried first, then 10 and 12.
+  [[nodiscard]] std::optional<InferredLine> infer_line(
+      Nanos precision, std::optional<std::uint32_t> bits_per_char = std::nullopt) const;
+
   // A warning when the measured spacing contradicts `line`; nullopt when it agrees or cannot
   // be measured.
   [[nodiscard]] std::optional<std::string> warning(const LineSettings& line, Nanos precision) const;
@@ -42,6 +57,11 @@ class LineCheck {
   static constexpr std::size_t kPerOctave = 48;
   static constexpr std::size_t kBuckets = 1 + kPerOctave * 21;  // below 1 µs, then 1 µs to ~2 s
   static std::size_t bucket_of(Nanos spacing);
+  struct Cluster {
+    Nanos spacing = 0;
+    std::uint64_t count = 0;
+  };
+  [[nodiscard]] std::optional<Cluster> densest_cluster(Nanos precision) const;
 
   std::array<std::uint64_t, kBuckets> counts_{};
   std::array<std::uint64_t, kBuckets> sums_{};  // ns, for the exact mean of a cluster

@@ -67,6 +67,9 @@ struct LineOverrides {
   std::optional<std::uint32_t> baud;
   std::optional<Parity> parity;
   std::optional<std::uint8_t> stop_bits;
+  // --baud auto: infer the rate (and character size) from the capture's timing even where
+  // the capture declares it (see pipeline/line_inference.hpp).
+  bool infer_baud = false;
 };
 
 }  // namespace rtu

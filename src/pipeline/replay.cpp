@@ -1,5 +1,7 @@
 #include "pipeline/replay.hpp"
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -8,7 +10,9 @@
 #include "capture/open_capture.hpp"
 #include "capture/read_ahead.hpp"
 #include "core/input_error.hpp"
+#include "framing/framer.hpp"
 #include "framing/timing_estimator.hpp"
+#include "pipeline/line_inference.hpp"
 #include "pipeline/line_warnings.hpp"
 
 namespace rtu {
@@ -76,6 +80,51 @@ class Feed final : public CaptureConsumer {
   bool use_chunks_;
   Nanos char_time_;
 };
+
+// Frames the first reads of a capture hold at some settings: what confirms inferred ones.
+class SampleFramer final : public CaptureConsumer, public RecordSink {
+ public:
+  explicit SampleFramer(const FramerConfig& config) : framer_(config, *this) {}
+
+  void on_chunk(const Chunk& chunk) override {
+    ++sample_.reads;
+    framer_.push(chunk);
+  }
+  void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {}
+  void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {}
+  void on_end(Nanos /*t*/) override {}
+  void on_record(Record& record) override {
+    if (record.kind != RecordKind::kFrame) return;
+    ++sample_.frames;
+    if (record.crc_ok) ++sample_.crc_ok;
+  }
+
+  FrameSample finish() {
+    framer_.finish();
+    return sample_;
+  }
+  [[nodiscard]] std::uint64_t reads() const { return sample_.reads; }
+
+ private:
+  Framer framer_;
+  FrameSample sample_;
+};
+
+constexpr std::uint64_t kSampleReads = 20000;
+
+FrameSample sample_frames(const CaptureOpener& open, const FramerConfig& config) {
+  SampleFramer sample(config);
+  try {
+    auto reader = open([](std::string_view) {});
+    while (sample.reads() < kSampleReads && reader->read(sample)) {
+    }
+  } catch (const InputError&) {
+    // The decoding pass reports the damage; the sample ends at it.
+  }
+  return sample.finish();
+}
 
 // Tells ReplayOptions::on_progress how far one pass over a reader has got.
 class PassProgress {
@@ -155,7 +204,22 @@ CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& opt
   if (const auto timeout = first->declared_timeout(); timeout && !options.response_timeout_set) {
     info.response_timeout = *timeout;
   }
-  add_line_warnings(info, declared.has_value(), options.overrides, survey.line_check, precision,
+  bool inferred = false;
+  const std::size_t warnings_before = info.warnings.size();
+  if (result.use_chunks && wants_inference(options.overrides, declared.has_value())) {
+    const FrameSampler sampler = [&](const LineSettings& line) {
+      return sample_frames(open, FramerConfig{line, info.timing_resolution, result.per_byte_exact,
+                                              !options.resolution.has_value()});
+    };
+    inferred = infer_line_settings(info, survey.line_check, precision, options.overrides, sampler);
+  }
+  for (std::size_t i = warnings_before; options.show_warnings && i < info.warnings.size(); ++i) {
+    print_warning_to_stderr(fmt::format("{}: {}", info.source, info.warnings[i]));
+  }
+  // Settings that were inferred, or that --baud auto said it could not infer, are not
+  // "assumed" a second time.
+  const bool explained = declared.has_value() || inferred || options.overrides.infer_baud;
+  add_line_warnings(info, explained, options.overrides, survey.line_check, precision,
                     options.show_warnings);
   return result;
 }

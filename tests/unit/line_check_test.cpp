@@ -82,6 +82,30 @@ TEST(LineCheck, NineSixHundredDecodedAtNineteenTwoHundredNamesNineSixHundred) {
       << *w;
 }
 
+TEST(LineCheck, InfersTheRateAndCharacterSizeFromTheSpacing) {
+  LineSettings n1 = at(4800, Parity::kNone);
+  const auto eleven = fed(polling(at(38400), 60).per_byte()).infer_line(kMicro);
+  const auto ten = fed(polling(n1, 60).per_byte()).infer_line(kMicro);
+  ASSERT_TRUE(eleven.has_value());
+  ASSERT_TRUE(ten.has_value());
+  EXPECT_EQ(eleven->baud, 38400U);
+  EXPECT_EQ(eleven->bits_per_char, 11U);
+  EXPECT_EQ(ten->baud, 4800U);
+  EXPECT_EQ(ten->bits_per_char, 10U);
+  EXPECT_GT(eleven->agreeing * 2, eleven->spacings);  // most spacings are back-to-back bytes
+}
+
+TEST(LineCheck, AGivenCharacterSizeOnlyInfersTheRate) {
+  const LineCheck check = fed(polling(at(19200), 60).per_byte());
+  EXPECT_EQ(check.infer_line(kMicro, 11U)->baud, 19200U);
+  // 19200 at 11 bits is no standard rate at 10 bits (17454): nothing, rather than a guess.
+  EXPECT_FALSE(check.infer_line(kMicro, 10U).has_value());
+}
+
+TEST(LineCheck, BatchedReadsInferNothing) {
+  EXPECT_FALSE(fed(polling(at(19200), 60).batched(16 * kMs)).infer_line(kMicro).has_value());
+}
+
 TEST(LineCheck, UsbBatchedChunksCannotBeCheckedAndSayNothing) {
   const auto bus = polling(at(19200), 30);
   const LineCheck check = fed(bus.batched(16 * kMs));

@@ -20,14 +20,13 @@ import subprocess
 import sys
 import tempfile
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 SHB, IDB, EPB = 0x0A0D0D0A, 1, 6
 LINKTYPE_RTAC_SERIAL = 250
 PARTS = 4
-
-
-def fail(message):
-    print("FAIL:", message)
-    sys.exit(1)
 
 
 def run(cmd, expect=0):

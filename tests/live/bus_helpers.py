@@ -6,10 +6,9 @@ import subprocess
 import sys
 import tty
 
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402,F401  (after the path line; used by the tests)
 
 
 def open_endpoint(path):

@@ -27,12 +27,11 @@ import urllib.error
 import urllib.parse
 import urllib.request
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 BUS = 'cabinet "4"\\west'
-
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
 
 
 def free_port():

@@ -21,16 +21,15 @@ import threading
 import time
 import tty
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 ERASE = b"\r\x1b[K"
 PROGRESS = re.compile(rb"([a-z]+ [12]/2)\s+(\d+)%\s+(\S+) MB/s\s+(\S+) rec/s\s+ETA (\S+)")
 BIG_SIZE = 5 * 1024 * 1024  # over the 4 MB below which no line is shown
 MIN_TWO_PASSES_S = 1.5  # the two passes of a report over the big capture, at least
 MAX_SIZE = 400 * 1024 * 1024
-
-
-def fail(message):
-    print("FAIL:", message)
-    sys.exit(1)
 
 
 def crc16(data):

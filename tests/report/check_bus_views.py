@@ -19,14 +19,13 @@ import shlex
 import subprocess
 import sys
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 # The two views time bytes from different channels of one recording: their edges differ by
 # a few microseconds, far below this.
 MEDIAN_TOLERANCE_MS = 0.1
-
-
-def fail(message):
-    print("FAIL:", message)
-    sys.exit(1)
 
 
 def report(rtuscope, capture):

@@ -20,13 +20,12 @@ import subprocess
 import sys
 import tempfile
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 
 RAW_POINT = re.compile(r"(holding|input|coil|discrete) 0x[0-9A-F]{4}")
-
-
-def fail(message):
-    print("FAIL:", message)
-    sys.exit(1)
 
 
 def run(cmd):

@@ -19,6 +19,10 @@ import subprocess
 import sys
 import tempfile
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 SLAVE_KEYS = ["device", "requests", "responses", "exceptions", "exceptions_by_code",
               "timeouts", "damaged_requests", "late_responses", "crc_errors", "unsolicited", "wrong_slave",
               "after_next_request", "frames", "bytes", "line_errors", "latency_ms",
@@ -30,11 +34,6 @@ TOTAL_KEYS = ["start", "end", "duration_s", "records", "frames", "requests", "re
               "timing_resolution_ms", "slaves", "request_kinds", "request_kinds_overflow",
               "points", "points_overflow"]
 FINDING_KEYS = ["key", "severity", "slave", "summary", "cause", "evidence", "units"]
-
-
-def fail(message):
-    print("FAIL:", message)
-    sys.exit(1)
 
 
 SOURCE_DIR = None  # where the .args paths start

@@ -7,14 +7,12 @@
 """
 import argparse
 import os
-import shutil
 import subprocess
 import sys
 
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail, fresh_dir  # noqa: E402  (after the path line)
 
 
 def main():
@@ -23,8 +21,7 @@ def main():
     ap.add_argument("--source", required=True)
     ap.add_argument("--work", required=True)
     args = ap.parse_args()
-    shutil.rmtree(args.work, ignore_errors=True)
-    os.makedirs(args.work)
+    fresh_dir(args.work)
 
     maps = os.path.join(args.source, "dissectors")
     run = subprocess.run([args.rtuscope, "check-map", maps], capture_output=True, text=True)

@@ -21,10 +21,9 @@ import subprocess
 import sys
 import tempfile
 
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
+from check_support import fail, fresh_dir  # noqa: E402  (after the path line)
 
 
 def run(cmd, **kwargs):
@@ -151,8 +150,7 @@ def main():
     ap.add_argument("--capture", required=True)
     ap.add_argument("--work", required=True)
     args = ap.parse_args()
-    shutil.rmtree(args.work, ignore_errors=True)
-    os.makedirs(args.work)
+    fresh_dir(args.work)
     work = tempfile.mkdtemp(dir=args.work)
     check_full_disk(args, work)
     check_unwritable_output(args, args.capture)

@@ -19,15 +19,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "accuracy"))
 # tools/pylib (modbus_crc), found from this file: any working directory, no install.
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
 import misses  # noqa: E402
 import ref_decoder  # noqa: E402
 import score  # noqa: E402
 from modbus_crc import crc16  # noqa: E402  (the CRC value: 0 over an intact frame)
-
-
-def fail(msg):
-    print(f"FAIL: {msg}")
-    sys.exit(1)
 
 
 def expect(cond, msg):

@@ -9,16 +9,13 @@ apart, written as a text hex capture (19200 baud 8E1).
 is one line stamped with its last byte's end time (a read per frame).
 """
 import argparse
+import os
 import random
+import sys
 
-
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
+# tools/pylib (modbus_crc), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
+from modbus_crc import with_crc  # noqa: E402  (after the path line)
 
 
 def main():
@@ -36,8 +33,7 @@ def main():
         for _ in range(args.frames):
             body = bytes([rng.randrange(256), rng.randrange(256)]) + rng.randbytes(
                 rng.randrange(61))
-            c = crc16(body)
-            frame = body + bytes([c & 0xFF, c >> 8])
+            frame = with_crc(body)
             if args.per_byte:
                 for b in frame:
                     t += char_ns

@@ -24,13 +24,12 @@ import threading
 import time
 import tty
 
+# tools/pylib (check_support), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
+from check_support import fail  # noqa: E402  (after the path line)
+
 RSS_MARGIN = 1.10
 FD_MARGIN = 2
-
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
 
 
 def parse_duration(text):

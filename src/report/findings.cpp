@@ -523,6 +523,26 @@ void bus_rules(const TrafficStats& stats, Builder& b) {
     ev(f, "requests", static_cast<double>(t.requests));
   }
 
+  // Requests seen twice in a row (request_echoes.hpp): ≥ 5, and half the requests or more,
+  // since an echo is systematic where a coincidence is not.
+  const RequestEchoes& echoes = stats.request_echoes();
+  const std::uint64_t copies = echoes.echoes();
+  const std::uint64_t originals = t.requests - copies;
+  if (copies >= 5 && copies * 2 >= originals) {
+    Finding& f = b.add("request_echo", Severity::kWarning, std::nullopt, ratio(copies, originals));
+    f.summary = fmt::format(
+        "{} of {} requests appear twice in a row, the copy at most {:.3f} ms after the first "
+        "ended; {} of the first copies count as unanswered because of it",
+        copies, originals, ms(echoes.longest_gap()), echoes.timeouts_on_first_copies());
+    f.cause =
+        "an RS-485 adapter hears its own transmission (its receiver stays on while it sends), or "
+        "one port's transmit and receive lines are captured together: each pair is one request";
+    ev(f, "echoed_requests", static_cast<double>(copies));
+    ev(f, "requests", static_cast<double>(originals));
+    ev(f, "longest_gap", ms(echoes.longest_gap()), "ms");
+    ev(f, "timeouts_from_echo", static_cast<double>(echoes.timeouts_on_first_copies()));
+  }
+
   // The busiest stretch of the capture (a timeline bucket) above 80% and at least 1 s long.
   const auto& tl = stats.timeline();
   double peak = 0.0;

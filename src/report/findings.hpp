@@ -27,6 +27,8 @@
 //   exceptions_for_request        a request kind is answered with exceptions
 //   master_polls_too_fast         requests start < t3.5 after the previous frame
 //   responses_too_soon            a slave answers < t3.5 after the request
+//   request_echo                  requests seen twice in a row, the copy within t3.5: an
+//                                 adapter's echo (the first copies read as timeouts)
 //   bus_busy                      the line is nearly always carrying bytes
 //   noise                         bytes that form no frame, beyond both turnaround glitches
 #include <cstdint>

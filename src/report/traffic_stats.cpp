@@ -93,6 +93,7 @@ TrafficStats::TrafficStats(const dissect::DeviceTable* devices) : devices_(devic
 
 void TrafficStats::on_capture(const CaptureInfo& info) {
   info_ = info;
+  echoes_.set_window(info.line.t3_5() + info.timing_resolution);
 }
 
 bool TrafficStats::t15_observable() const {
@@ -215,6 +216,7 @@ void TrafficStats::bridge_glitch(const Record& glitch) {
 
 void TrafficStats::count_frame(const Record& r) {
   settle_unknown_request(r);
+  echoes_.on_frame(r, r.role == Role::kRequest);
   last_sender_ = r.role == Role::kResponse ? std::optional<std::uint8_t>(r.slave()) : std::nullopt;
   TrafficBucket& bucket = timeline_.at(r.t_start);
   ++totals_.frames;

@@ -24,6 +24,7 @@
 #include "framing/capture_info.hpp"
 #include "framing/record.hpp"
 #include "report/log_histogram.hpp"
+#include "report/request_echoes.hpp"
 #include "report/time_buckets.hpp"
 
 namespace rtu {
@@ -260,6 +261,7 @@ class TrafficStats : public RecordSink {
   // Whether the capture's timestamps can show pauses of t1.5 / t3.5.
   [[nodiscard]] bool t15_observable() const;
   [[nodiscard]] bool t35_observable() const;
+  [[nodiscard]] const RequestEchoes& request_echoes() const { return echoes_; }
 
  private:
   void add_point(const dissect::PointValue& value);
@@ -299,6 +301,7 @@ class TrafficStats : public RecordSink {
   using PointEntry = std::map<std::pair<std::uint8_t, std::string>, PointSeries>::iterator;
   std::unordered_map<std::uint64_t, PointEntry> point_index_;
   LogHistogram master_turnaround_;
+  RequestEchoes echoes_;
 
   // What the previous record was, for turnaround and attribution. A turnaround glitch leaves
   // it unchanged: the line settling inside a turnaround is not the next record of traffic.

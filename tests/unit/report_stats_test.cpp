@@ -472,6 +472,37 @@ TEST(Findings, ResponsesAfterTheMasterMovedOn) {
   EXPECT_EQ(a.evidence("responses_after_next_request", "late_answers"), 4.0);
 }
 
+TEST(Findings, RequestsEchoedByTheMastersAdapter) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 12; ++c) {
+    const auto request = read_request(2);
+    bus.add(request, 50 * kMs);
+    bus.add(request, kMs / 2);  // the adapter hears itself: the same bytes 0.5 ms later
+    bus.add(read_response(2), 9 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("request_echo");
+  ASSERT_NE(f, nullptr) << "no request_echo finding";
+  EXPECT_EQ(a.evidence("request_echo", "echoed_requests"), 12.0);
+  EXPECT_EQ(a.evidence("request_echo", "requests"), 18.0);  // 6 clean + 12 echoed
+  EXPECT_NEAR(a.evidence("request_echo", "longest_gap"), 0.5, 0.01);
+  // Each first copy was followed by a request before any answer: the tracker's timeout.
+  EXPECT_EQ(a.evidence("request_echo", "timeouts_from_echo"), 12.0);
+}
+
+TEST(Findings, AMasterRetryingAfterItsTimeoutIsNoEcho) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 12; ++c) {
+    const auto request = read_request(2);
+    bus.add(request, 50 * kMs);
+    bus.add(request, 200 * kMs);  // no answer: the master asks again after 200 ms
+    bus.add(read_response(2), 9 * kMs);
+  }
+  EXPECT_EQ(analyse(bus).find("request_echo"), nullptr);
+}
+
 TEST(Findings, TimeoutFitFromTheLatencyDistribution) {
   BusBuilder bus;
   for (int c = 0; c < 200; ++c) {

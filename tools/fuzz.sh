@@ -6,6 +6,10 @@
 # mode on that many processes.
 #
 # Prints the final statistics as a README table row: | target | seconds | executions | coverage |
+# RTUSCOPE_FUZZ_BUDGET=cpu makes SECONDS the fuzzer's own CPU time (user + system) instead
+# of wall time, so a run on a machine shared with builds still gets its full share; the
+# fuzzer is stopped with SIGINT when it has used it (one process only, JOBS = 1).
+#
 # On a finding it keeps the scratch directory, prints the reproducer's path and how to
 # replay it; exits 1. Set RTUSCOPE_FUZZ_KEEP=1 to keep the scratch directory (and the corpus
 # the run grew) in any case.
@@ -39,11 +43,31 @@ scratch=$(mktemp -d "${TMPDIR:-/tmp}/rtuscope-fuzz-$name.XXXXXX")
 mkdir "$scratch/corpus" "$scratch/findings"
 cp "$corpus"/* "$scratch/corpus/"
 
-options=(-max_total_time="$seconds" -timeout=25 -print_final_stats=1
-         -artifact_prefix="$scratch/findings/")
+budget=${RTUSCOPE_FUZZ_BUDGET:-wall}
+if [[ $budget != wall && $budget != cpu ]] || [[ $budget == cpu && $jobs -gt 1 ]]; then
+  echo "tools/fuzz.sh: RTUSCOPE_FUZZ_BUDGET is 'wall' (default) or 'cpu' (with JOBS = 1)" >&2
+  exit 2
+fi
+options=(-timeout=25 -print_final_stats=1 -artifact_prefix="$scratch/findings/")
+if [[ $budget == wall ]]; then options+=(-max_total_time="$seconds"); fi
 if ((jobs > 1)); then options+=(-fork="$jobs"); fi
 status=0
-"$binary" "${options[@]}" "$scratch/corpus" >"$scratch/fuzz.log" 2>&1 || status=$?
+if [[ $budget == wall ]]; then
+  "$binary" "${options[@]}" "$scratch/corpus" >"$scratch/fuzz.log" 2>&1 || status=$?
+else
+  "$binary" "${options[@]}" "$scratch/corpus" >"$scratch/fuzz.log" 2>&1 &
+  pid=$!
+  ticks=$(getconf CLK_TCK)
+  while kill -0 "$pid" 2>/dev/null; do
+    sleep 5
+    # Fields 14 and 15 of /proc/PID/stat: user and system time in clock ticks.
+    used=$(awk -v t="$ticks" '{ print int(($14 + $15) / t) }' "/proc/$pid/stat" 2>/dev/null) || break
+    if ((used >= seconds)); then kill -INT "$pid" 2>/dev/null || true; break; fi
+  done
+  wait "$pid" || status=$?
+  # Stopped at its budget: libFuzzer prints its statistics and exits 72.
+  if ((status == 72)) && grep -q 'run interrupted' "$scratch/fuzz.log"; then status=0; fi
+fi
 
 # The last statistics line: "#N DONE cov: X ft: Y ..." (one process) or "#N: cov: X ft: Y ..."
 # (fork mode).

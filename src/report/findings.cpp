@@ -276,6 +276,29 @@ void damaged_request_rule(const TrafficStats& stats, Builder& b) {
   ev(f, "timeouts", static_cast<double>(t.timeouts));
 }
 
+// Requests while a response is due: ≥ 5 answers from this slave came after another request,
+// and the time from its request to that other request varies by 2x or more between the 10th
+// and 90th percentile. A master that gives up waits its timeout, the same every time; a
+// second master's requests land anywhere in the first one's transactions.
+void two_masters_rule(std::uint8_t a, const SlaveStats& s, Builder& b) {
+  const LogHistogram& after = s.next_request_after;
+  if (after.count() < 5) return;
+  const Nanos low = after.quantile(0.1);
+  const Nanos high = after.quantile(0.9);
+  if (high < 2 * std::max<Nanos>(low, kNanosPerMilli)) return;
+  Finding& f = b.add("two_masters", Severity::kError, a, ratio(after.count(), s.requests));
+  f.summary = fmt::format(
+      "{} times another request began while slave {}'s answer was due, {:.1f} to {:.1f} ms "
+      "after its request (10th to 90th percentile), and its answer came after it",
+      after.count(), a, ms(low), ms(high));
+  f.cause =
+      "two masters share the line (a second PLC, an HMI, a laptop left polling): a master "
+      "that gave up would wait its timeout, about the same every time";
+  ev(f, "requests_while_answer_due", static_cast<double>(after.count()));
+  ev(f, "next_request_after_p10", ms(low), "ms");
+  ev(f, "next_request_after_p90", ms(high), "ms");
+}
+
 void per_slave_rules(const TrafficStats& stats, Builder& b) {
   const Totals& t = stats.totals();
   const CaptureInfo& info = stats.capture();
@@ -311,6 +334,7 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
       ev(f, "late_answers", static_cast<double>(s.after_next_request));
       ev(f, "timeouts", static_cast<double>(s.timeouts));
       if (!s.latency.empty()) ev(f, "latency_max", ms(s.latency.max()), "ms");
+      two_masters_rule(a, s, b);
     } else if (s.issues[IssueId::kUnsolicited] >= 2) {
       const double share = ratio(s.issues[IssueId::kUnsolicited], s.responses);
       Finding& f = b.add("unsolicited_responses", Severity::kWarning, a, share);

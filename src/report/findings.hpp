@@ -17,6 +17,8 @@
 //   damaged_requests              requests the wire damaged went unanswered (not timeouts)
 //   pauses_in_responses           silences > t1.5 inside one slave's responses
 //   responses_after_next_request  a slave's answers arrive after the master moved on
+//   two_masters                   requests while a slave's answer is due, at varying times
+//                                 (a master that gave up would wait the same timeout)
 //   unsolicited_responses         responses with no request (not explained as late answers)
 //   line_errors_one_device        parity/framing errors where one slave's answer is due
 //   line_errors                   parity/framing errors with valid frames in between

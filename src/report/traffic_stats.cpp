@@ -264,6 +264,7 @@ void TrafficStats::count_request(const Record& r) {
     master_turnaround_.add(turnaround);
   }
   previous_ = Previous::kRequest;
+  if (awaiting_ && awaited_timed_out_) next_request_after_ = r.t_start - awaited_end_;
   const bool timed_out = r.issues.has(IssueId::kTimeout);
   const bool damaged = is_damaged(r);
   if (r.slave() == 0) {
@@ -367,7 +368,10 @@ void TrafficStats::count_response(const Record& r) {
     ++s.exceptions;
     ++s.exception_codes[*code];
   }
-  if ((unsolicited || wrong_slave) && timed_out_slave_ == r.slave()) ++s.after_next_request;
+  if ((unsolicited || wrong_slave) && timed_out_slave_ == r.slave()) {
+    ++s.after_next_request;
+    if (next_request_after_ != kUnknownTime) s.next_request_after.add(next_request_after_);
+  }
   if (counts_latency(r)) {
     s.latency.add(r.latency);
     for (std::size_t i = 0; i < kCandidateTimeoutsMs.size(); ++i) {

@@ -118,6 +118,9 @@ struct SlaveStats {
   IssueCounts issues;
   // Its responses that came after the master had given up and sent the next request.
   std::uint64_t after_next_request = 0;
+  // For those: how long after its request ended the next request began. One master gives
+  // up after its timeout, always about as long; a second master's requests fall anywhere.
+  LogHistogram next_request_after;
   std::uint64_t frames = 0;
   std::uint64_t valid_frames = 0;  // CRC ok
   std::uint64_t bytes = 0;
@@ -314,6 +317,7 @@ class TrafficStats : public RecordSink {
   std::optional<std::uint8_t> awaiting_;         // slave whose answer is expected
   Nanos awaited_end_ = kUnknownTime;             // end of the request that set awaiting_
   bool awaited_timed_out_ = false;               // the tracker's verdict on that request
+  Nanos next_request_after_ = kUnknownTime;      // from a timed-out request to the next one
   std::optional<std::uint8_t> timed_out_slave_;  // last request that timed out
   // A damaged unknown-role frame read as the master's request to this slave; whether it was
   // answered is known at the next frame.

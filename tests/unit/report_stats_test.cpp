@@ -470,6 +470,7 @@ TEST(Findings, ResponsesAfterTheMasterMovedOn) {
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->slave, std::uint8_t{4});
   EXPECT_EQ(a.evidence("responses_after_next_request", "late_answers"), 4.0);
+  EXPECT_EQ(a.find("two_masters"), nullptr);  // one master, one timeout
 }
 
 TEST(Findings, RequestsEchoedByTheMastersAdapter) {
@@ -501,6 +502,41 @@ TEST(Findings, AMasterRetryingAfterItsTimeoutIsNoEcho) {
     bus.add(read_response(2), 9 * kMs);
   }
   EXPECT_EQ(analyse(bus).find("request_echo"), nullptr);
+}
+
+TEST(Findings, TwoMastersRequestWhileAnAnswerIsDue) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  // Master 1 polls slave 4 (it answers in 40 ms); master 2's request to slave 1 falls at a
+  // different point of each of those transactions.
+  for (int c = 0; c < 10; ++c) {
+    bus.add(read_request(4), 60 * kMs);
+    const Nanos at = (5 + 3 * c) * kMs;  // 5 to 32 ms after the request
+    bus.add(read_request(1), at);
+    bus.add(read_response(4), 40 * kMs - at);
+    bus.add(read_response(1), 6 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  const Finding* f = a.find("two_masters");
+  ASSERT_NE(f, nullptr) << "no two_masters finding";
+  EXPECT_EQ(f->slave, std::uint8_t{4});
+  EXPECT_EQ(a.evidence("two_masters", "requests_while_answer_due"), 10.0);
+  EXPECT_GE(a.evidence("two_masters", "next_request_after_p90"),
+            2 * a.evidence("two_masters", "next_request_after_p10"));
+}
+
+TEST(Findings, OneMasterWithAShortTimeoutIsNotTwoMasters) {
+  BusBuilder bus;
+  clean_cycle(bus, 2);
+  for (int c = 0; c < 10; ++c) {
+    bus.add(read_request(4), 60 * kMs);
+    bus.add(read_request(1), 20 * kMs);  // the master gives up after 20 ms, every time
+    bus.add(read_response(4), (10 + c) * kMs);
+    bus.add(read_response(1), 6 * kMs);
+  }
+  const Analysis a = analyse(bus);
+  EXPECT_NE(a.find("responses_after_next_request"), nullptr);
+  EXPECT_EQ(a.find("two_masters"), nullptr);
 }
 
 TEST(Findings, TimeoutFitFromTheLatencyDistribution) {

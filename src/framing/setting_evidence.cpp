@@ -73,6 +73,10 @@ SettingEvidence EvidenceCounter::finish(Nanos listened) {
 }
 
 void EvidenceCounter::on_record(Record& record) {
+  if (record.size == 1 && !record.crc_ok) {
+    ++evidence_.lone_bytes;
+    if (record.storage[0] == 0x00 || record.storage[0] == 0xFF) ++evidence_.lone_idle_bytes;
+  }
   if (record.kind != RecordKind::kFrame || !record.crc_ok) return;
   ++evidence_.frames;
   evidence_.frame_bytes += record.size;

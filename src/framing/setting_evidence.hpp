@@ -28,6 +28,10 @@ struct SettingEvidence {
   // at any baud. A straight line at a wrong setting ends only some bursts so.
   std::uint64_t bursts = 0;
   std::uint64_t bursts_ending_flagged = 0;
+  // Single bytes between frames, and how many of them are 00 or FF: what a line without
+  // fail-safe bias gives at turnarounds, when the idle line floats.
+  std::uint64_t lone_bytes = 0;
+  std::uint64_t lone_idle_bytes = 0;
 
   [[nodiscard]] std::uint64_t line_errors() const {
     return parity_errors + framing_errors + breaks;

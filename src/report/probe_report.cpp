@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/json_writer.hpp"
 
@@ -22,18 +23,21 @@ int modbus_rule_rank(const LineSettings& s) {
   return 3;
 }
 
-// Two framings at one baud that both read the traffic cleanly: nothing a UART reports
-// tells them apart (the frame counts differ only by where each hearing began and ended).
+double share(std::uint64_t part, std::uint64_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+
+// Two framings at one baud that read the traffic equally well: nothing a UART reports
+// tells them apart (the counts differ only by where each hearing began and ended).
 bool reads_alike(const SettingEvidence& a, const SettingEvidence& b) {
-  if (a.line.baud != b.line.baud || a.line_errors() != 0 || b.line_errors() != 0) return false;
-  if (a.frames == 0 || b.frames == 0 || a.clean_share() < 0.9 || b.clean_share() < 0.9) {
+  if (a.line.baud != b.line.baud || a.frames == 0 || b.frames == 0) return false;
+  if (a.flagged_frame_bytes != 0 || b.flagged_frame_bytes != 0) return false;
+  constexpr double kClose = 0.05;
+  if (std::abs(a.clean_share() - b.clean_share()) > kClose) return false;
+  if (std::abs(share(a.line_errors(), a.bytes) - share(b.line_errors(), b.bytes)) > kClose) {
     return false;
   }
   return std::min(a.score(), b.score()) >= 0.8 * std::max(a.score(), b.score());
-}
-
-double share(std::uint64_t part, std::uint64_t whole) {
-  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
 }
 
 std::string evidence_line(const SettingEvidence& e) {
@@ -82,7 +86,18 @@ void diagnose(const std::vector<SettingEvidence>& table, ProbeVerdict& v) {
   }
   if (v.winner) {
     const auto& w = table[*v.winner];
-    if (w.line_errors() > 0 && share(w.line_errors(), w.bytes) >= 0.05) {
+    // Lone bytes between frames, about one per turnaround: the line floats when released.
+    const bool lone = w.lone_bytes >= 3 && 4 * w.lone_bytes >= w.frames;
+    if (lone) {
+      v.diagnoses.push_back(fmt::format(
+          "bias: {} lone bytes between {} frames at {} ({} of them 00 or FF), as a line "
+          "without fail-safe bias gives at turnarounds: check the bias resistors or the "
+          "adapter's bias setting",
+          w.lone_bytes, w.frames, w.line.describe(), w.lone_idle_bytes));
+    }
+    const std::uint64_t unexplained =
+        w.line_errors() - std::min(w.line_errors(), lone ? w.lone_bytes : 0);
+    if (share(unexplained, w.bytes) >= 0.05) {
       std::vector<std::string> others;
       for (const auto& e : table) {
         if (e.line.baud != w.line.baud && e.frames > 0) others.push_back(e.line.describe());
@@ -90,7 +105,7 @@ void diagnose(const std::vector<SettingEvidence>& table, ProbeVerdict& v) {
       v.diagnoses.push_back(fmt::format(
           "{:.0f}% line errors even at {}{}: the device's rate may be off the standard one, "
           "or the line is noisy",
-          100.0 * share(w.line_errors(), w.bytes), w.line.describe(),
+          100.0 * share(unexplained, w.bytes), w.line.describe(),
           others.empty() ? std::string()
                          : fmt::format(" (CRC-valid frames also at {})", fmt::join(others, ", "))));
     }
@@ -209,6 +224,7 @@ std::string probe_json(const std::vector<SettingEvidence>& table, const ProbeVer
     j.field("framing_errors", e.framing_errors);
     j.field("breaks", e.breaks);
     j.field("noise_bytes", e.noise_bytes());
+    j.field("lone_bytes", e.lone_bytes);
     j.end_object();
   };
   j.begin_object();

@@ -31,7 +31,8 @@ std::string probe_text(const std::vector<SettingEvidence>& table, const ProbeVer
 // {"winner": {...}|null, "alike": [...], "inverted": bool, "quiet": bool,
 //  "diagnoses": [...], "settings": [{"setting": "9600 8E1", "baud", "parity", "stop_bits",
 //  "seconds", "bytes", "frames", "frames_per_second", "clean_share", "score",
-//  "parity_errors", "framing_errors", "breaks", "noise_bytes"}, ...]} (ranked)
+//  "parity_errors", "framing_errors", "breaks", "noise_bytes", "lone_bytes"}, ...]}
+//  (ranked)
 std::string probe_json(const std::vector<SettingEvidence>& table, const ProbeVerdict& verdict);
 
 }  // namespace rtu

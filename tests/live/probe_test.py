@@ -13,6 +13,8 @@ pairs; probe listens on endpoint 2 and never writes.
                     with CRC-valid frames, and probe says so.
   n2_vs_e1          an 8N2 bus: probe's 8E1 hearing shows parity errors on some bytes
                     only; 8N2 wins.
+  glitches          an unbiased line (a low pulse at each turnaround): probe still finds
+                    the setting, and names the lone bytes as a bias problem.
   inverted          A and B swapped: no setting fits (exit 3) and probe says to swap them.
   quiet             nobody talks: probe says so, waits out --max-time, exits 3.
 """
@@ -154,6 +156,18 @@ def n2_vs_e1(args):
     print("ok: 8E1 on an 8N2 bus has parity errors on some bytes; 8N2 wins")
 
 
+def glitches(args):
+    setting = (9600, "E", 1)
+    r, table = run_with_talkers(args, setting, ["--bias-glitches"],
+                                ["--quick", "--dwell", str(args.dwell)], "glitches")
+    expect_winner(r, table, "9600 8E1")
+    if table["winner"]["lone_bytes"] < 3:
+        fail(f"the turnaround glitches were not heard: {table['winner']}")
+    if not any(d.startswith("bias:") for d in table["diagnoses"]):
+        fail(f"no bias diagnosis: {table['diagnoses']}")
+    print("ok: glitches heard as lone bytes, setting still found, bias named")
+
+
 def inverted(args):
     setting = (9600, "E", 1)
     r, table = run_with_talkers(args, setting, ["--invert"],
@@ -193,7 +207,8 @@ def main():
     ap.add_argument("--vbus", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--scenario", required=True,
-                    choices=["find", "wrong_parity", "n2_vs_e1", "inverted", "quiet"])
+                    choices=["find", "wrong_parity", "n2_vs_e1", "glitches", "inverted",
+                             "quiet"])
     ap.add_argument("--setting", action="append", default=[], help="BAUD:8E1 (find)")
     ap.add_argument("--dwell", type=float, default=0.8)
     args = ap.parse_args()

@@ -13,6 +13,8 @@ pairs; probe listens on endpoint 2 and never writes.
                     with CRC-valid frames, and probe says so.
   n2_vs_e1          an 8N2 bus: probe's 8E1 hearing shows parity errors on some bytes
                     only; 8N2 wins.
+  talk_tty          the talkers' own pty settings (19200, two stop bits) are what they
+                    transmit at (`--talk-as EP=tty`), not the bus's 9600 8E1.
   glitches          an unbiased line (a low pulse at each turnaround): probe still finds
                     the setting, and names the lone bytes as a bias problem.
   inverted          A and B swapped: no setting fits (exit 3) and probe says to swap them.
@@ -23,6 +25,7 @@ import json
 import os
 import subprocess
 import sys
+import termios
 import threading
 import time
 
@@ -156,6 +159,24 @@ def n2_vs_e1(args):
     print("ok: 8E1 on an 8N2 bus has parity errors on some bytes; 8N2 wins")
 
 
+def talk_tty(args):
+    vbus, eps = start_bus(args.vbus, (9600, "E", 1), ["--talk-as", "0=tty", "--talk-as", "1=tty"])
+    try:
+        talkers = Talkers(eps[0], eps[1], (19200, "N", 2))
+        for fd in (talkers.master, talkers.slave):
+            attrs = termios.tcgetattr(fd)
+            attrs[2] |= termios.CSTOPB
+            attrs[4] = attrs[5] = termios.B19200
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
+        with talkers:
+            time.sleep(0.2)
+            r, table = probe(args, eps[2], ["--quick", "--dwell", str(args.dwell)], "talk_tty")
+    finally:
+        stop_all([vbus])
+    expect_winner(r, table, "19200 8N2")
+    print("ok: talkers transmit at their own pty settings")
+
+
 def glitches(args):
     setting = (9600, "E", 1)
     r, table = run_with_talkers(args, setting, ["--bias-glitches"],
@@ -207,8 +228,8 @@ def main():
     ap.add_argument("--vbus", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--scenario", required=True,
-                    choices=["find", "wrong_parity", "n2_vs_e1", "glitches", "inverted",
-                             "quiet"])
+                    choices=["find", "wrong_parity", "n2_vs_e1", "talk_tty", "glitches",
+                             "inverted", "quiet"])
     ap.add_argument("--setting", action="append", default=[], help="BAUD:8E1 (find)")
     ap.add_argument("--dwell", type=float, default=0.8)
     args = ap.parse_args()

@@ -15,6 +15,9 @@ pairs; probe listens on endpoint 2 and never writes.
                     only; 8N2 wins.
   talk_tty          the talkers' own pty settings (19200, two stop bits) are what they
                     transmit at (`--talk-as EP=tty`), not the bus's 9600 8E1.
+  live_marks        not probe: `rtuscope live` at 8O1 on an endpoint fixed at 8O1
+                    (`--listen-as 2=9600:8O1`) of an 8E1 bus gets every byte marked
+                    (PARMRK) and reports a line error on every frame, with its CRC intact.
   glitches          an unbiased line (a low pulse at each turnaround): probe still finds
                     the setting, and names the lone bytes as a bias problem.
   inverted          A and B swapped: no setting fits (exit 3) and probe says to swap them.
@@ -177,6 +180,30 @@ def talk_tty(args):
     print("ok: talkers transmit at their own pty settings")
 
 
+def live_marks(args):
+    setting = (9600, "E", 1)
+    vbus, eps = start_bus(args.vbus, setting, ["--listen-as", "2=9600:8O1"])
+    try:
+        with Talkers(eps[0], eps[1], setting):
+            r = subprocess.run([args.rtuscope, "live", eps[2], "--baud", "9600", "--parity", "O",
+                                "--duration", "2", "--format", "jsonl"],
+                               capture_output=True, text=True, timeout=60)
+    finally:
+        stop_all([vbus])
+    if r.returncode != 0:
+        fail(f"live: exit {r.returncode}: {r.stderr}")
+    records = [json.loads(l) for l in r.stdout.splitlines() if l.strip()]
+    frames = [x for x in records if x.get("kind") == "frame" and x.get("crc_ok")]
+    if len(frames) < 5:
+        fail(f"live heard {len(frames)} CRC-valid frames at 8O1 on an 8E1 bus")
+    # Bytes the pty held from before live set PARMRK arrive unmarked, as on a real port:
+    # the first two frames may be such.
+    unmarked = [x for x in frames[2:] if "line_error" not in x.get("issues", [])]
+    if unmarked:
+        fail(f"{len(unmarked)} of {len(frames)} frames without a line error: {unmarked[0]}")
+    print(f"ok: {len(frames)} frames, each with line_error, via PARMRK marks")
+
+
 def glitches(args):
     setting = (9600, "E", 1)
     r, table = run_with_talkers(args, setting, ["--bias-glitches"],
@@ -228,8 +255,8 @@ def main():
     ap.add_argument("--vbus", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--scenario", required=True,
-                    choices=["find", "wrong_parity", "n2_vs_e1", "talk_tty", "glitches",
-                             "inverted", "quiet"])
+                    choices=["find", "wrong_parity", "n2_vs_e1", "talk_tty", "live_marks",
+                             "glitches", "inverted", "quiet"])
     ap.add_argument("--setting", action="append", default=[], help="BAUD:8E1 (find)")
     ap.add_argument("--dwell", type=float, default=0.8)
     args = ap.parse_args()

@@ -138,6 +138,27 @@ TEST(ProbeReport, LoneBytesAtTurnaroundsAreABiasFinding) {
   EXPECT_FALSE(has_diagnosis(v, "rate may be off"));
 }
 
+TEST(ProbeReport, FramesOnlyAmidGarbageAtOneRatePointToANeighbouringRate) {
+  // A few CRC-valid frames at 9600, most bytes unexplained: no winner, and said why.
+  auto near = garbage(line(9600, Parity::kEven, 1), 20, 5);
+  near.frames = 2;
+  near.frame_bytes = 20;
+  const std::vector<SettingEvidence> table = {near, garbage(line(19200, Parity::kEven, 1), 20, 5)};
+  const auto v = judge_probe(table, false);
+  EXPECT_FALSE(v.winner.has_value());
+  EXPECT_TRUE(has_diagnosis(v, "CRC-valid frames only at 9600 8E1"));
+}
+
+TEST(ProbeReport, LineErrorsAtTheWinnerThatGlitchesDoNotExplainAreSaid) {
+  auto e = clean(line(19200, Parity::kEven, 1), 30);
+  e.bytes += 40;
+  e.framing_errors = 40;  // errors between frames, not lone bytes
+  const auto v = judge_probe({e}, false);
+  ASSERT_TRUE(v.winner.has_value());
+  EXPECT_TRUE(has_diagnosis(v, "line errors even at 19200 8E1"));
+  EXPECT_FALSE(has_diagnosis(v, "bias"));
+}
+
 TEST(ProbeReport, AQuietBusHasNoWinnerAndSaysSo) {
   SettingEvidence silent;
   silent.line = line(9600, Parity::kEven, 1);

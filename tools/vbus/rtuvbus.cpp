@@ -81,8 +81,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> talk_as;
   app.add_option("--listen-as", listen_as,
                  "EP=BAUD:8E1 or EP=tty: what endpoint EP's UART receives at (tty: the "
-                 "settings its program gave the pty); the line is then emulated bit by bit "
-                 "(repeatable)");
+                 "settings its program gave the pty, which drops PARENB, so 8E1 and 8N1 both "
+                 "read as 8E1); the line is then emulated bit by bit (repeatable)");
   app.add_option("--talk-as", talk_as,
                  "EP=BAUD:8E1 or EP=tty: what endpoint EP transmits at (repeatable)");
   app.add_flag("--invert", options.invert,

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+
 namespace rtu {
 
 std::uint32_t LineSettings::bits_per_char() const {
@@ -44,6 +46,23 @@ std::optional<Parity> parse_parity(std::string_view text) {
     case 'O': case 'o': return Parity::kOdd;
     default: return std::nullopt;
   }
+}
+
+std::optional<LineSettings> parse_line_spec(std::string_view text) {
+  const auto colon = text.find(':');
+  if (colon == std::string_view::npos || text.size() != colon + 4 || text[colon + 1] != '8') {
+    return std::nullopt;
+  }
+  LineSettings s;
+  const char* first = text.data();
+  const auto [end, ec] = std::from_chars(first, first + colon, s.baud);
+  if (ec != std::errc() || end != first + colon || s.baud < 50) return std::nullopt;
+  const auto parity = parse_parity(text.substr(colon + 2, 1));
+  const char stop = text[colon + 3];
+  if (!parity || (stop != '1' && stop != '2')) return std::nullopt;
+  s.parity = *parity;
+  s.stop_bits = static_cast<std::uint8_t>(stop - '0');
+  return s;
 }
 
 }  // namespace rtu

@@ -32,5 +32,7 @@ struct LineSettings {
 
 char parity_letter(Parity p);
 std::optional<Parity> parse_parity(std::string_view text);  // N|E|O (any case)
+// "19200:8E1", "9600:8N2" (8 data bits only); nullopt when malformed.
+std::optional<LineSettings> parse_line_spec(std::string_view text);
 
 }  // namespace rtu

@@ -181,6 +181,11 @@ std::size_t SerialSource::pending_input() {
   return static_cast<std::size_t>(n);
 }
 
+void SerialSource::discard_input() {
+  if (port_.is_open()) ::tcflush(port_.native_handle(), TCIFLUSH);
+  decoder_.reset();
+}
+
 void SerialSource::read_next() {
   port_.async_read_some(asio::buffer(raw_), [this](const boost::system::error_code& error,
                                                    std::size_t n) { on_read(error, n); });

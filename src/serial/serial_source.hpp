@@ -86,6 +86,8 @@ class SerialSource {
   // Bytes the driver holds that no read has taken yet (0 when closed or unknown). The live
   // idle timer must not declare the line quiet while bytes wait here.
   [[nodiscard]] std::size_t pending_input();
+  // Drops what the driver holds unread (bytes received at the settings before these).
+  void discard_input();
   [[nodiscard]] const SerialStatus& status() const { return status_; }
   [[nodiscard]] const SerialConfig& config() const { return config_; }
 

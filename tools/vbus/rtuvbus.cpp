@@ -4,14 +4,50 @@
 //
 //   rtuvbus -n 3 --baud 19200 --parity E --log bus.hex [--link-dir DIR] [--flip P]
 //           [--usb EP]... [--usb-latency-ms 16] [--usb-packet 62]
+//           [--listen-as EP=19200:8E1|EP=tty]... [--talk-as EP=...]... [--invert]
+//           [--bias-glitches]
 #include <fmt/format.h>
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include "serial/virtual_bus.hpp"
+
+namespace {
+
+// "2=19200:8E1" or "2=tty" into the table; false when malformed.
+bool add_endpoint_uart(const std::string& text, std::size_t endpoints,
+                       std::map<std::size_t, rtu::EndpointUart>& table) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) return false;
+  std::size_t index = 0;
+  try {
+    std::size_t used = 0;
+    index = std::stoul(text.substr(0, eq), &used);
+    if (used != eq || index >= endpoints) return false;
+  } catch (const std::exception&) {
+    return false;
+  }
+  rtu::EndpointUart uart;
+  const std::string spec = text.substr(eq + 1);
+  if (spec == "tty") {
+    uart.follow_pty = true;
+  } else {
+    const auto line = rtu::parse_line_spec(spec);
+    if (!line) return false;
+    uart.line = *line;
+  }
+  table[index] = uart;
+  return true;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"rtuvbus: virtual RS-485 bus on pseudo-terminals"};
@@ -41,7 +77,30 @@ int main(int argc, char** argv) {
   app.add_option("--usb-packet", options.usb_packet,
                  "USB packet size: a full packet is sent at once (default 62, as FTDI)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{4096}));
+  std::vector<std::string> listen_as;
+  std::vector<std::string> talk_as;
+  app.add_option("--listen-as", listen_as,
+                 "EP=BAUD:8E1 or EP=tty: what endpoint EP's UART receives at (tty: the "
+                 "settings its program gave the pty, which drops PARENB, so 8E1 and 8N1 both "
+                 "read as 8E1); the line is then emulated bit by bit (repeatable)");
+  app.add_option("--talk-as", talk_as,
+                 "EP=BAUD:8E1 or EP=tty: what endpoint EP transmits at (repeatable)");
+  app.add_flag("--invert", options.invert,
+               "A and B swapped: every level on the wire inverted (the idle line is 0)");
+  app.add_flag("--bias-glitches", options.bias_glitches,
+               "Unbiased line: a one-bit low pulse each time another endpoint takes the line");
   CLI11_PARSE(app, argc, argv);
+  for (const auto& [texts, table, name] :
+       {std::tuple{&listen_as, &options.listen_as, "--listen-as"},
+        std::tuple{&talk_as, &options.talk_as, "--talk-as"}}) {
+    for (const auto& text : *texts) {
+      if (!add_endpoint_uart(text, options.endpoints, *table)) {
+        fmt::print(stderr, "rtuvbus: {} {}: expected EP=BAUD:8E1 (N|E|O, 1|2) or EP=tty\n", name,
+                   text);
+        return 2;
+      }
+    }
+  }
   const auto p = rtu::parse_parity(parity);
   if (!p) {
     fmt::print(stderr, "rtuvbus: --parity: expected N, E or O\n");

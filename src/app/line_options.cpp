@@ -39,6 +39,10 @@ ReplayOptions LineOptions::to_replay_options() const {
   ReplayOptions options;
   if (baud == "auto" && auto_baud_allowed) {
     options.overrides.infer_baud = true;
+  } else if (baud == "auto") {
+    throw InputError(
+        "--baud auto infers the rate from a capture's timing; a port's settings are found by "
+        "listening: rtuscope probe PORT");
   } else if (!baud.empty()) {
     std::uint32_t rate = 0;
     const auto* end = baud.data() + baud.size();

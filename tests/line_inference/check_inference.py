@@ -145,7 +145,7 @@ def main():
         fail(f"--baud 19k: exit {run.returncode}: {run.stderr}")
     run = subprocess.run([args.rtuscope, "live", "/dev/null", "--baud", "auto"],
                          capture_output=True, text=True)
-    if run.returncode != 2 or "found 'auto'" not in run.stderr:
+    if run.returncode != 2 or "rtuscope probe PORT" not in run.stderr:
         fail(f"live --baud auto: exit {run.returncode}: {run.stderr}")
     print("malformed --baud and live --baud auto are refused")
     return 0

@@ -13,14 +13,6 @@ namespace {
 
 namespace asio = boost::asio;
 
-LineSettings setting(std::uint32_t baud, Parity parity, std::uint8_t stop) {
-  LineSettings s;
-  s.baud = baud;
-  s.parity = parity;
-  s.stop_bits = stop;
-  return s;
-}
-
 bool same(const LineSettings& a, const LineSettings& b) {
   return a.baud == b.baud && a.parity == b.parity && a.stop_bits == b.stop_bits;
 }
@@ -67,18 +59,19 @@ std::vector<LineSettings> probe_candidates(bool quick) {
   std::vector<LineSettings> all;
   if (quick) {
     // What Modbus devices ship with, most common first.
-    for (const auto& s : {setting(19200, Parity::kEven, 1), setting(9600, Parity::kEven, 1),
-                          setting(9600, Parity::kNone, 1), setting(19200, Parity::kNone, 1),
-                          setting(38400, Parity::kEven, 1), setting(115200, Parity::kEven, 1),
-                          setting(115200, Parity::kNone, 1), setting(57600, Parity::kEven, 1),
-                          setting(9600, Parity::kNone, 2), setting(19200, Parity::kNone, 2),
-                          setting(4800, Parity::kEven, 1), setting(38400, Parity::kNone, 1)}) {
+    for (const auto& s :
+         {LineSettings{19200, Parity::kEven, 1}, LineSettings{9600, Parity::kEven, 1},
+          LineSettings{9600, Parity::kNone, 1}, LineSettings{19200, Parity::kNone, 1},
+          LineSettings{38400, Parity::kEven, 1}, LineSettings{115200, Parity::kEven, 1},
+          LineSettings{115200, Parity::kNone, 1}, LineSettings{57600, Parity::kEven, 1},
+          LineSettings{9600, Parity::kNone, 2}, LineSettings{19200, Parity::kNone, 2},
+          LineSettings{4800, Parity::kEven, 1}, LineSettings{38400, Parity::kNone, 1}}) {
       all.push_back(s);
     }
   }
   for (const auto rate : rates) {
     for (const auto& [parity, stop] : framings) {
-      const auto s = setting(rate, parity, stop);
+      const auto s = LineSettings{rate, parity, stop};
       if (std::none_of(all.begin(), all.end(), [&](const auto& t) { return same(s, t); })) {
         all.push_back(s);
       }

@@ -13,14 +13,6 @@
 namespace rtu {
 namespace {
 
-LineSettings line(std::uint32_t baud, Parity parity, std::uint8_t stop) {
-  LineSettings s;
-  s.baud = baud;
-  s.parity = parity;
-  s.stop_bits = stop;
-  return s;
-}
-
 // A clean hearing: `frames` CRC-valid frames of 10 bytes in 1 s, nothing else.
 SettingEvidence clean(const LineSettings& s, std::uint64_t frames) {
   SettingEvidence e;
@@ -54,7 +46,7 @@ bool has_diagnosis(const ProbeVerdict& v, const std::string& text) {
 }
 
 TEST(ProbeReport, CountsCrcValidFramesThroughTheFramer) {
-  const auto s = line(9600, Parity::kEven, 1);
+  const auto s = LineSettings{9600, Parity::kEven, 1};
   EvidenceCounter counter(s, kNanosPerMilli);
   // FC03 request for 10 registers at slave 1, then a lone glitch byte long after.
   const std::vector<std::uint8_t> request = {0x01, 0x03, 0x00, 0x00, 0x00, 0x0A, 0xC5, 0xCD};
@@ -82,9 +74,10 @@ TEST(ProbeReport, CountsCrcValidFramesThroughTheFramer) {
 
 TEST(ProbeReport, SettingsReadAlikeAreChosenByTheModbusRule) {
   // 8N1 heard one frame more than 8E1 by chance; the rule still picks even parity.
-  const std::vector<SettingEvidence> table = {clean(line(9600, Parity::kNone, 1), 32),
-                                              clean(line(9600, Parity::kEven, 1), 31),
-                                              garbage(line(19200, Parity::kEven, 1), 30, 10)};
+  const std::vector<SettingEvidence> table = {
+      clean(LineSettings{9600, Parity::kNone, 1}, 32),
+      clean(LineSettings{9600, Parity::kEven, 1}, 31),
+      garbage(LineSettings{19200, Parity::kEven, 1}, 30, 10)};
   const auto v = judge_probe(table, false);
   ASSERT_TRUE(v.winner.has_value());
   EXPECT_EQ(*v.winner, 1U);
@@ -95,10 +88,10 @@ TEST(ProbeReport, SettingsReadAlikeAreChosenByTheModbusRule) {
 }
 
 TEST(ProbeReport, EveryByteFlaggedInCrcValidFramesIsTheWrongParity) {
-  auto odd = clean(line(9600, Parity::kOdd, 1), 30);
+  auto odd = clean(LineSettings{9600, Parity::kOdd, 1}, 30);
   odd.parity_errors = odd.bytes;
   odd.flagged_frame_bytes = odd.frame_bytes;
-  const std::vector<SettingEvidence> table = {odd, clean(line(9600, Parity::kEven, 1), 30)};
+  const std::vector<SettingEvidence> table = {odd, clean(LineSettings{9600, Parity::kEven, 1}, 30)};
   const auto v = judge_probe(table, false);
   ASSERT_TRUE(v.winner.has_value());
   EXPECT_EQ(table[*v.winner].line.parity, Parity::kEven);
@@ -107,9 +100,10 @@ TEST(ProbeReport, EveryByteFlaggedInCrcValidFramesIsTheWrongParity) {
 }
 
 TEST(ProbeReport, BurstsEndingInErrorsAtEverySettingAreASwappedPair) {
-  const std::vector<SettingEvidence> table = {garbage(line(9600, Parity::kEven, 1), 20, 20),
-                                              garbage(line(19200, Parity::kEven, 1), 20, 19),
-                                              garbage(line(4800, Parity::kNone, 1), 10, 10)};
+  const std::vector<SettingEvidence> table = {
+      garbage(LineSettings{9600, Parity::kEven, 1}, 20, 20),
+      garbage(LineSettings{19200, Parity::kEven, 1}, 20, 19),
+      garbage(LineSettings{4800, Parity::kNone, 1}, 10, 10)};
   const auto v = judge_probe(table, false);
   EXPECT_FALSE(v.winner.has_value());
   EXPECT_TRUE(v.inverted);
@@ -119,15 +113,16 @@ TEST(ProbeReport, BurstsEndingInErrorsAtEverySettingAreASwappedPair) {
 
 TEST(ProbeReport, AStraightLineAtWrongSettingsIsNotCalledSwapped) {
   // Some settings end every burst in an error, one does not: not the swapped pattern.
-  const std::vector<SettingEvidence> table = {garbage(line(9600, Parity::kEven, 1), 20, 20),
-                                              garbage(line(19200, Parity::kEven, 1), 20, 8)};
+  const std::vector<SettingEvidence> table = {
+      garbage(LineSettings{9600, Parity::kEven, 1}, 20, 20),
+      garbage(LineSettings{19200, Parity::kEven, 1}, 20, 8)};
   const auto v = judge_probe(table, false);
   EXPECT_FALSE(v.winner.has_value());
   EXPECT_FALSE(v.inverted);
 }
 
 TEST(ProbeReport, LoneBytesAtTurnaroundsAreABiasFinding) {
-  auto e = clean(line(9600, Parity::kEven, 1), 30);
+  auto e = clean(LineSettings{9600, Parity::kEven, 1}, 30);
   e.bytes += 30;
   e.parity_errors = 30;
   e.lone_bytes = 30;
@@ -140,17 +135,18 @@ TEST(ProbeReport, LoneBytesAtTurnaroundsAreABiasFinding) {
 
 TEST(ProbeReport, FramesOnlyAmidGarbageAtOneRatePointToANeighbouringRate) {
   // A few CRC-valid frames at 9600, most bytes unexplained: no winner, and said why.
-  auto near = garbage(line(9600, Parity::kEven, 1), 20, 5);
+  auto near = garbage(LineSettings{9600, Parity::kEven, 1}, 20, 5);
   near.frames = 2;
   near.frame_bytes = 20;
-  const std::vector<SettingEvidence> table = {near, garbage(line(19200, Parity::kEven, 1), 20, 5)};
+  const std::vector<SettingEvidence> table = {
+      near, garbage(LineSettings{19200, Parity::kEven, 1}, 20, 5)};
   const auto v = judge_probe(table, false);
   EXPECT_FALSE(v.winner.has_value());
   EXPECT_TRUE(has_diagnosis(v, "CRC-valid frames only at 9600 8E1"));
 }
 
 TEST(ProbeReport, LineErrorsAtTheWinnerThatGlitchesDoNotExplainAreSaid) {
-  auto e = clean(line(19200, Parity::kEven, 1), 30);
+  auto e = clean(LineSettings{19200, Parity::kEven, 1}, 30);
   e.bytes += 40;
   e.framing_errors = 40;  // errors between frames, not lone bytes
   const auto v = judge_probe({e}, false);
@@ -161,7 +157,7 @@ TEST(ProbeReport, LineErrorsAtTheWinnerThatGlitchesDoNotExplainAreSaid) {
 
 TEST(ProbeReport, AQuietBusHasNoWinnerAndSaysSo) {
   SettingEvidence silent;
-  silent.line = line(9600, Parity::kEven, 1);
+  silent.line = LineSettings{9600, Parity::kEven, 1};
   silent.listened = kNanosPerSecond;
   const auto v = judge_probe({silent}, true);
   EXPECT_FALSE(v.winner.has_value());

@@ -11,14 +11,6 @@
 namespace rtu {
 namespace {
 
-LineSettings line(std::uint32_t baud, Parity parity, std::uint8_t stop) {
-  LineSettings s;
-  s.baud = baud;
-  s.parity = parity;
-  s.stop_bits = stop;
-  return s;
-}
-
 std::vector<std::uint8_t> every_byte() {
   std::vector<std::uint8_t> v;
   for (unsigned b = 0; b < 256; ++b) v.push_back(static_cast<std::uint8_t>(b));
@@ -27,9 +19,9 @@ std::vector<std::uint8_t> every_byte() {
 
 TEST(UartLine, SameSettingsRoundTripEveryByteAtEveryFraming) {
   const auto bytes = every_byte();
-  for (const auto& s :
-       {line(9600, Parity::kEven, 1), line(19200, Parity::kNone, 1), line(115200, Parity::kOdd, 1),
-        line(1200, Parity::kNone, 2), line(250000, Parity::kEven, 1)}) {
+  for (const auto& s : {LineSettings{9600, Parity::kEven, 1}, LineSettings{19200, Parity::kNone, 1},
+                        LineSettings{115200, Parity::kOdd, 1}, LineSettings{1200, Parity::kNone, 2},
+                        LineSettings{250000, Parity::kEven, 1}}) {
     const auto got = transmit_and_receive(bytes, s, s);
     ASSERT_EQ(got.size(), bytes.size()) << s.describe();
     for (std::size_t i = 0; i < bytes.size(); ++i) {
@@ -41,8 +33,8 @@ TEST(UartLine, SameSettingsRoundTripEveryByteAtEveryFraming) {
 
 TEST(UartLine, TwiceTheBaudReadsGarbageWithFramingErrors) {
   const std::vector<std::uint8_t> frame = {0x01, 0x03, 0x00, 0x00, 0x00, 0x0A, 0xC5, 0xCD};
-  const auto got =
-      transmit_and_receive(frame, line(9600, Parity::kEven, 1), line(19200, Parity::kEven, 1));
+  const auto got = transmit_and_receive(frame, LineSettings{9600, Parity::kEven, 1},
+                                        LineSettings{19200, Parity::kEven, 1});
   ASSERT_FALSE(got.empty());
   std::vector<std::uint8_t> values;
   int framing = 0;
@@ -61,8 +53,8 @@ TEST(UartLine, TwoStopBitsReadWithEvenParityGiveParityErrorsOnEvenCounts) {
   // 8N2 sent, 8E1 read: the receiver takes the first stop bit (1) for parity and the
   // second (1) for its stop bit. Even parity wants 1 only when the count of ones is odd.
   const std::vector<std::uint8_t> bytes = {0x01, 0x03, 0x07, 0x00, 0xFE, 0xFF};
-  const auto got =
-      transmit_and_receive(bytes, line(9600, Parity::kNone, 2), line(9600, Parity::kEven, 1));
+  const auto got = transmit_and_receive(bytes, LineSettings{9600, Parity::kNone, 2},
+                                        LineSettings{9600, Parity::kEven, 1});
   ASSERT_EQ(got.size(), bytes.size());
   const std::vector<std::uint8_t> expected = {kLineOk,      kParityError, kLineOk,
                                               kParityError, kLineOk,      kParityError};
@@ -74,8 +66,8 @@ TEST(UartLine, TwoStopBitsReadWithEvenParityGiveParityErrorsOnEvenCounts) {
 
 TEST(UartLine, EvenParityReadAsOddIsAParityErrorOnEveryByte) {
   const auto bytes = every_byte();
-  const auto got =
-      transmit_and_receive(bytes, line(19200, Parity::kEven, 1), line(19200, Parity::kOdd, 1));
+  const auto got = transmit_and_receive(bytes, LineSettings{19200, Parity::kEven, 1},
+                                        LineSettings{19200, Parity::kOdd, 1});
   ASSERT_EQ(got.size(), bytes.size());
   for (std::size_t i = 0; i < bytes.size(); ++i) {
     EXPECT_EQ(got[i].byte, bytes[i]);
@@ -86,8 +78,8 @@ TEST(UartLine, EvenParityReadAsOddIsAParityErrorOnEveryByte) {
 TEST(UartLine, OneStopBitReadWithTwoIsReadAlike) {
   // Receivers check only the first stop bit.
   const auto bytes = every_byte();
-  const auto got =
-      transmit_and_receive(bytes, line(9600, Parity::kNone, 1), line(9600, Parity::kNone, 2));
+  const auto got = transmit_and_receive(bytes, LineSettings{9600, Parity::kNone, 1},
+                                        LineSettings{9600, Parity::kNone, 2});
   ASSERT_EQ(got.size(), bytes.size());
   for (std::size_t i = 0; i < bytes.size(); ++i) EXPECT_EQ(got[i].error, kLineOk);
 }
@@ -97,7 +89,7 @@ TEST(UartLine, InvertedLineGivesBreaksAndFramingErrorsWithInvertedValues) {
   // The fall at bit 1 starts a character: data = bits 2..9 = 1111111 0 → 0x7F, the
   // parity sample (bit 10) is 0 where even parity of 0x7F wants 1, and the stop sample
   // (bit 11) is the low idle line: a framing error.
-  const auto s = line(9600, Parity::kEven, 1);
+  const auto s = LineSettings{9600, Parity::kEven, 1};
   auto got = transmit_and_receive({0x01}, s, s, true);
   ASSERT_EQ(got.size(), 1U);
   EXPECT_EQ(got[0].byte, 0x7F);
@@ -116,7 +108,7 @@ TEST(UartLine, InvertedLineGivesBreaksAndFramingErrorsWithInvertedValues) {
 }
 
 TEST(UartLine, ShortLowPulseIsAFalseStartAndALongerOneALoneByte) {
-  const auto s = line(9600, Parity::kEven, 1);
+  const auto s = LineSettings{9600, Parity::kEven, 1};
   LineLevels levels;
   levels.set(1000, false);
   levels.set(1000 + half_bits_at(9600, 1) / 2, true);  // a quarter bit low
@@ -134,7 +126,7 @@ TEST(UartLine, ShortLowPulseIsAFalseStartAndALongerOneALoneByte) {
 }
 
 TEST(UartLine, WaitsForTheLineUntilACharacterIsWhole) {
-  const auto s = line(9600, Parity::kNone, 1);
+  const auto s = LineSettings{9600, Parity::kNone, 1};
   LineLevels levels;
   const Picos end = render_char(levels, 0, 0x55, s);
   UartReceiver receiver(s);

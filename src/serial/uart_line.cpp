@@ -62,7 +62,7 @@ Picos render_char(LineLevels& line, Picos start, std::uint8_t byte, const LineSe
                   bool inverted) {
   std::vector<bool> bits;
   bits.push_back(false);  // start
-  for (unsigned i = 0; i < 8; ++i) bits.push_back(((byte >> i) & 1U) != 0);
+  for (unsigned i = 0; i < 8; ++i) bits.push_back(((static_cast<unsigned>(byte) >> i) & 1U) != 0);
   if (tx.parity != Parity::kNone) bits.push_back(parity_bit(byte, tx.parity));
   for (unsigned i = 0; i < tx.stop_bits; ++i) bits.push_back(true);
   for (std::size_t i = 0; i < bits.size(); ++i) {

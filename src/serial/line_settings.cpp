@@ -41,9 +41,12 @@ char parity_letter(Parity p) {
 std::optional<Parity> parse_parity(std::string_view text) {
   if (text.size() != 1) return std::nullopt;
   switch (text[0]) {
-    case 'N': case 'n': return Parity::kNone;
-    case 'E': case 'e': return Parity::kEven;
-    case 'O': case 'o': return Parity::kOdd;
+    case 'N':
+    case 'n': return Parity::kNone;
+    case 'E':
+    case 'e': return Parity::kEven;
+    case 'O':
+    case 'o': return Parity::kOdd;
     default: return std::nullopt;
   }
 }

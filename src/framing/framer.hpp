@@ -16,6 +16,7 @@
 // as noise. Bytes are never dropped: each ends up in exactly one record.
 //
 // Memory is fixed: a bounded byte window; nothing allocates per byte.
+#include <algorithm>
 #include <array>
 #include <bitset>
 #include <cstdint>
@@ -72,6 +73,12 @@ class Framer {
   // Start of the oldest byte not yet emitted in a record, kUnknownTime when none: records
   // still to come can start no earlier.
   [[nodiscard]] Nanos oldest_pending_start() const;
+  // Earliest start of a byte not yet read when nothing was read up to `now`: an adapter
+  // may still hold bytes for its delivery delay (the resolution, at least
+  // kDeliveryPatience), and one more may be on the wire.
+  [[nodiscard]] Nanos earliest_unread_start(Nanos now) const {
+    return now - std::max(resolution_, kDeliveryPatience) - char_time_;
+  }
 
  private:
   static constexpr std::size_t kWindow = 2048;             // bytes held while deciding

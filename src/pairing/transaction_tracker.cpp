@@ -80,14 +80,13 @@ void TransactionTracker::handle_response(Record& frame) {
   if (frame.slave() != open_.slave()) frame.issues.add(IssueId::kWrongSlave);
   if ((frame.function() & 0x7FU) != open_.function()) frame.issues.add(IssueId::kWrongFunction);
   frame.latency = frame.t_start - open_.t_end;
-  if (released_) {
-    // Its request already went out timed out and unmatched: a late answer, with no txn.
+  if (released_ || frame.latency > config_.response_timeout) {
+    // After the response timeout: the request timed out and goes out unmatched, as it
+    // does when an idle moment released it first (live), so a late answer has no txn
+    // whenever it is seen.
     frame.issues.add(IssueId::kLate);
+    if (!released_) release_timed_out();
   } else {
-    if (frame.latency > config_.response_timeout) {
-      frame.issues.add(IssueId::kLate);
-      open_.issues.add(IssueId::kTimeout);
-    }
     open_.txn = next_txn_++;
     frame.txn = open_.txn;
     if (held_count_ > 0) {
@@ -138,11 +137,15 @@ void TransactionTracker::release_held() {
 
 void TransactionTracker::advance(Nanos now) {
   if (awaiting_answer() && !released_ && now - open_.t_end > config_.response_timeout) {
-    open_.issues.add(IssueId::kTimeout);
-    if (held_count_ > 0) held_[0].issues.add(IssueId::kTimeout);
-    released_ = true;
-    release_held();
+    release_timed_out();
   }
+}
+
+void TransactionTracker::release_timed_out() {
+  open_.issues.add(IssueId::kTimeout);
+  if (held_count_ > 0) held_[0].issues.add(IssueId::kTimeout);
+  released_ = true;
+  release_held();
 }
 
 void TransactionTracker::on_finish() {

@@ -32,7 +32,9 @@ class TransactionTracker : public RecordSink {
   void on_finish() override;
   // No record can start before `now`: a request whose response timeout ran out before it
   // is released as timed out. An answer that still comes is flagged `late`, with no txn
-  // (its request has already gone out unmatched).
+  // (its request has already gone out unmatched); one that comes after the timeout with
+  // no advance() between is treated the same, so the verdict never depends on when
+  // advance() was called.
   void advance(Nanos now);
 
  private:
@@ -42,6 +44,8 @@ class TransactionTracker : public RecordSink {
   void handle_request(Record& frame);
   void handle_response(Record& frame);
   void close_open(bool timed_out);
+  // The open request's response timeout ran out: it leaves now, with what it held back.
+  void release_timed_out();
   void emit(Record& record);
   void release_held();
   [[nodiscard]] bool awaiting_answer() const { return has_open_ && !answered_; }

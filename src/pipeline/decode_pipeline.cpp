@@ -227,11 +227,18 @@ void DecodePipeline::Impl::push_noise_records(std::span<const std::uint8_t> byte
 
 void DecodePipeline::idle(Nanos now) {
   if (!impl_->started) return;
-  for (auto& framer : impl_->framers) framer->advance(now);
-  // A record a framer still holds may be the awaited answer: the request's fate is
-  // decided only up to where that record could start.
+  // A request's fate is decided only up to where a record still to come could start: one
+  // a framer or the merge still holds, or one made of bytes an adapter still holds (read
+  // later, but stamped back to when they were on the wire). Deciding later than that is
+  // what makes the verdict the same as the replay's, which sees no idle moments.
+  Nanos decided_until = now;
+  for (auto& framer : impl_->framers) {
+    framer->advance(now);
+    decided_until = std::min(decided_until, framer->earliest_unread_start(now));
+  }
   const Nanos oldest = impl_->merge.oldest_pending_start();
-  impl_->tracker.advance(oldest == kUnknownTime ? now : std::min(now, oldest));
+  if (oldest != kUnknownTime) decided_until = std::min(decided_until, oldest);
+  impl_->tracker.advance(decided_until);
 }
 
 void DecodePipeline::finish() {

@@ -6,13 +6,16 @@
 // records of one port leave in time order, and a run with a live capture's idle calls
 // between the reads gives exactly the records of the replay without them (live ≡ replay),
 // device issues included; every value the device stage collects has a name.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <vector>
 
 #include "dissect/device_stage.hpp"
 #include "dissect/map_library.hpp"
+#include "framing/framer.hpp"
 #include "pipeline/decode_pipeline.hpp"
 #include "report/jsonl_writer.hpp"
 #include "report/text_writer.hpp"
@@ -77,7 +80,10 @@ struct Read {
 };
 
 // Decodes the reads; with `idle_step` > 0 also calls idle() every idle_step while no read
-// is due, as a live capture's timer does.
+// is due, as a live capture's timer does. A live capture is idle only while no bytes wait
+// in a driver, so a read's bytes were on the wire at most an adapter's delivery delay
+// (the resolution, at least kDeliveryPatience) and a character before an idle moment:
+// idle moments here keep to that, as they do on a real line.
 std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOptions& options,
                          bool one_port, rtu::Nanos idle_step, std::size_t payload) {
   static rtu::OutputStream devnull("/dev/null");
@@ -97,8 +103,17 @@ std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOpti
   rtu::dissect::DeviceStage stage(devices, sink, true);
   rtu::DecodePipeline pipeline(options, stage);
   rtu::Nanos now = 0;
+  const rtu::Nanos char_time = options.line.char_time();
+  const rtu::Nanos delivery =
+      std::max(options.timing_resolution, rtu::kDeliveryPatience) + char_time;
   for (const auto& read : reads) {
-    for (; idle_step > 0 && now + idle_step < read.t_end; now += idle_step) pipeline.idle(now);
+    const rtu::Nanos on_wire_from =
+        read.t_end - static_cast<rtu::Nanos>(read.bytes.size()) * char_time;
+    for (; idle_step > 0 && now + idle_step < read.t_end &&
+           now + idle_step <= on_wire_from + delivery;
+         now += idle_step) {
+      pipeline.idle(now + idle_step);
+    }
     rtu::Chunk c;
     c.t_end = read.t_end;
     c.bytes = read.bytes;
@@ -109,6 +124,25 @@ std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOpti
   pipeline.finish();
   if (sink.bytes != payload) std::abort();
   return std::move(sink.seen);
+}
+
+// Says where two runs part, so that a finding can be read without a debugger.
+void report_first_difference(const std::vector<Seen>& replayed, const std::vector<Seen>& lived) {
+  const auto show = [](const char* which, std::size_t i, const Seen& s) {
+    std::fprintf(stderr,
+                 "%s #%zu: kind %d, %zu bytes, t_start %lld, gap %lld, issues %llx, txn %lld\n",
+                 which, i, static_cast<int>(s.kind), s.bytes.size(),
+                 static_cast<long long>(s.t_start), static_cast<long long>(s.gap),
+                 static_cast<unsigned long long>(s.issues), static_cast<long long>(s.txn));
+  };
+  std::size_t i = 0;
+  while (i < replayed.size() && i < lived.size() && replayed[i] == lived[i]) ++i;
+  std::fprintf(stderr, "live and replay part at record %zu of %zu / %zu\n", i, replayed.size(),
+               lived.size());
+  for (std::size_t k = i > 2 ? i - 2 : 0; k < i + 2; ++k) {
+    if (k < replayed.size()) show("replay", k, replayed[k]);
+    if (k < lived.size()) show("live  ", k, lived[k]);
+  }
 }
 
 }  // namespace
@@ -141,6 +175,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const auto replayed = decode(reads, options, !two_ports, 0, payload);
   const auto lived = decode(reads, options, !two_ports, idle_step, payload);
-  if (lived != replayed) std::abort();
+  if (lived != replayed) {
+    report_first_difference(replayed, lived);
+    std::abort();
+  }
   return 0;
 }

@@ -90,14 +90,77 @@ TEST(TransactionTracker, ResponseFromAnotherSlaveIsPairedAndFlagged) {
   EXPECT_EQ(sink.records[0].txn, sink.records[1].txn);
 }
 
-TEST(TransactionTracker, LateResponseIsPairedAndBothAreFlagged) {
+// A late answer cannot be paired live (its request already went out when the timeout ran
+// out), so it is not paired in a replay either: both flagged, no txn, latency still shown.
+TEST(TransactionTracker, LateResponseIsFlaggedWithItsTimedOutRequestAndNoTxn) {
   BusBuilder bus;
   bus.add(kRead, 0).add(kReadAnswer, 300 * kMs);
   const auto sink = decode(bus, 100 * kMs);
   ASSERT_EQ(sink.records.size(), 2U);
   EXPECT_TRUE(sink.records[0].issues.has(IssueId::kTimeout));
   EXPECT_TRUE(sink.records[1].issues.has(IssueId::kLate));
+  EXPECT_EQ(sink.records[0].txn, -1);
+  EXPECT_EQ(sink.records[1].txn, -1);
+  EXPECT_GT(sink.records[1].latency, 280 * kMs);
+}
+
+// Live calls idle() while the line is quiet. A late answer must come out the same whether
+// an idle moment released its request first or not.
+TEST(TransactionTracker, LateResponseIsTheSameWithOrWithoutAnIdleMomentBeforeIt) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kReadAnswer, 300 * kMs).add(kReadSlave2, 50 * kMs);
+  bus.add(kAnswerSlave2, 20 * kMs);
+  PipelineOptions options;
+  options.line = bus.line();
+  options.response_timeout = 100 * kMs;
+  const auto chunks = bus.per_byte();
+  const auto run = [&](bool with_idle) {
+    CollectingSink sink;
+    DecodePipeline pipeline(options, sink);
+    for (std::size_t i = 0; i < chunks.size(); ++i) {
+      if (with_idle && i == kRead.size()) pipeline.idle(chunks[i - 1].t_end + 250 * kMs);
+      pipeline.push(chunks[i]);
+    }
+    pipeline.finish();
+    return sink;
+  };
+  const auto replayed = run(false);
+  const auto lived = run(true);
+  ASSERT_EQ(replayed.records.size(), 4U);
+  ASSERT_EQ(lived.records.size(), 4U);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(lived.records[i].txn, replayed.records[i].txn) << i;
+    EXPECT_EQ(lived.records[i].issues.bits(), replayed.records[i].issues.bits()) << i;
+  }
+  EXPECT_EQ(replayed.records[1].txn, -1);
+  EXPECT_EQ(replayed.records[2].txn, replayed.records[3].txn);
+  EXPECT_GE(replayed.records[2].txn, 0);
+}
+
+// An adapter may hold an answer's bytes back (up to its latency) after they were on the
+// wire: an idle moment just after the timeout must not time out a request whose answer
+// started within it, because the replay places that answer where it was on the wire.
+TEST(TransactionTracker, IdleMomentWithinTheDeliveryDelayDoesNotTimeOutAnAnswerOnTheWire) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kReadAnswer, 95 * kMs);
+  PipelineOptions options;
+  options.line = bus.line();
+  options.response_timeout = 100 * kMs;
+  options.timing_resolution = 16 * kMs;
+  const auto chunks = bus.usb(16 * kMs, 64);
+  ASSERT_EQ(chunks.size(), 2U);
+  CollectingSink sink;
+  DecodePipeline pipeline(options, sink);
+  pipeline.push(chunks[0]);
+  // Nothing read yet 101 ms after the request: the answer is still in the adapter.
+  pipeline.idle(chunks[0].t_end + 101 * kMs);
+  pipeline.push(chunks[1]);
+  pipeline.finish();
+  ASSERT_EQ(sink.records.size(), 2U);
+  EXPECT_FALSE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_FALSE(sink.records[1].issues.has(IssueId::kLate));
   EXPECT_EQ(sink.records[0].txn, sink.records[1].txn);
+  EXPECT_GE(sink.records[0].txn, 0);
 }
 
 TEST(TransactionTracker, BroadcastExpectsNoResponse) {

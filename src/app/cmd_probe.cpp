@@ -46,7 +46,9 @@ void setup_probe(CLI::App& app, int& exit_code) {
   cmd->add_option("port", args->port, "Serial port (e.g. /dev/ttyUSB0)")->required();
   cmd->add_flag("--quick", args->quick, "Try the common settings first and stop at a clear winner");
   cmd->add_option("--json", args->json_path, "Write the ranked table as JSON to FILE (- = stdout)");
-  cmd->add_option("--dwell", args->dwell_s, "Seconds of listening per setting (default 2)")
+  cmd->add_option("--dwell", args->dwell_s,
+                  "Most seconds of listening per setting (default 2); a setting is left early once "
+                  "8 bursts of traffic decide it")
       ->check(CLI::Range(0.05, 3600.0));
   cmd->add_option("--max-time", args->max_time_s,
                   "Seconds in all; a quiet bus is listened to this long (default 300)")

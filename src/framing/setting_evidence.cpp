@@ -64,6 +64,14 @@ void EvidenceCounter::push(const Chunk& chunk) {
   framer_.push(chunk);
 }
 
+bool EvidenceCounter::settled() const {
+  constexpr std::uint64_t kSettlingBursts = 8;
+  constexpr std::uint64_t kCleanFrames = 4;
+  const SettingEvidence& e = evidence_;
+  if (e.bursts < kSettlingBursts) return false;
+  return e.frames == 0 || (e.frames >= kCleanFrames && e.flagged_frame_bytes == 0);
+}
+
 SettingEvidence EvidenceCounter::finish(Nanos listened) {
   framer_.finish();
   end_burst();

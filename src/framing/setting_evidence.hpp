@@ -50,6 +50,10 @@ class EvidenceCounter final : public RecordSink {
   // `resolution`: the port's timing resolution (SerialStatus::resolution).
   EvidenceCounter(const LineSettings& line, Nanos resolution);
   void push(const Chunk& chunk);
+  // Enough exchanges heard that listening on cannot change the verdict: the setting reads
+  // them as clean frames, or it read them and found no frame at all. Counted in bursts,
+  // not time, so a slow bus gets as many chances as a fast one.
+  [[nodiscard]] bool settled() const;
   // Ends the listening (what is buffered is decided) and returns the evidence.
   SettingEvidence finish(Nanos listened);
 

@@ -35,9 +35,15 @@ Listened listen_at(const std::string& port, const LineSettings& line, Nanos dwel
   source.discard_input();
   EvidenceCounter counter(line, status.resolution);
   const Nanos start = clock.now();
-  source.start([&counter](const Chunk& chunk) { counter.push(chunk); },
-               [&io](const std::error_code&) { io.stop(); });
   asio::steady_timer timer(io, std::chrono::nanoseconds(dwell));
+  // The dwell is the most a setting gets: once the exchanges heard leave no doubt, the
+  // probe moves on (the timer's handler runs at once when cancelled).
+  source.start(
+      [&counter, &timer](const Chunk& chunk) {
+        counter.push(chunk);
+        if (counter.settled()) timer.cancel();
+      },
+      [&io](const std::error_code&) { io.stop(); });
   timer.async_wait([&source](const boost::system::error_code&) { source.close(); });
   io.run();
   return {counter.finish(clock.now() - start), status.notes};

@@ -72,6 +72,37 @@ TEST(ProbeReport, CountsCrcValidFramesThroughTheFramer) {
   EXPECT_DOUBLE_EQ(e.clean_share(), 8.0 / 9.0);
 }
 
+// Eight bursts decide a setting: clean frames in them, or no frame at all. Anything in
+// between (frames with flagged bytes: the wrong parity) is listened to for the whole dwell.
+TEST(ProbeReport, ASettingIsSettledByEightBurstsThatLeaveNoDoubt) {
+  const auto s = LineSettings{9600, Parity::kEven, 1};
+  const std::vector<std::uint8_t> request = {0x01, 0x03, 0x00, 0x00, 0x00, 0x0A, 0xC5, 0xCD};
+  const std::vector<std::uint8_t> garbage = {0x13, 0x77, 0x42};
+  const std::vector<std::uint8_t> flags(request.size(), kParityError);
+  const auto bursts_settle = [&](const std::vector<std::uint8_t>& bytes, bool flagged) {
+    EvidenceCounter counter(s, kNanosPerMilli);
+    std::vector<bool> settled;
+    for (int i = 1; i <= 10; ++i) {
+      Chunk chunk;
+      chunk.t_end = i * 100 * kNanosPerMilli;
+      chunk.bytes = bytes;
+      if (flagged) chunk.errors = flags;
+      counter.push(chunk);
+      settled.push_back(counter.settled());
+    }
+    return settled;
+  };
+  // A burst ends when the next one starts: the ninth read closes the eighth burst.
+  const auto clean = bursts_settle(request, false);
+  EXPECT_FALSE(clean[7]);
+  EXPECT_TRUE(clean[8]);
+  const auto noise = bursts_settle(garbage, false);
+  EXPECT_FALSE(noise[7]);
+  EXPECT_TRUE(noise[8]);
+  const auto wrong_parity = bursts_settle(request, true);
+  EXPECT_FALSE(wrong_parity.back());
+}
+
 TEST(ProbeReport, SettingsReadAlikeAreChosenByTheModbusRule) {
   // 8N1 heard one frame more than 8E1 by chance; the rule still picks even parity.
   const std::vector<SettingEvidence> table = {
@@ -87,6 +118,24 @@ TEST(ProbeReport, SettingsReadAlikeAreChosenByTheModbusRule) {
   EXPECT_FALSE(v.inverted);
 }
 
+// At 1200 baud a 0.8 s dwell hears a handful of frames: 8 at one framing and 6 at the
+// other is chance, not evidence, and the Modbus rule decides.
+TEST(ProbeReport, FewFramesAtASlowRateStillReadAlike) {
+  const std::vector<SettingEvidence> table = {clean(LineSettings{1200, Parity::kNone, 1}, 8),
+                                              clean(LineSettings{1200, Parity::kEven, 1}, 6)};
+  const auto v = judge_probe(table, false);
+  ASSERT_TRUE(v.winner.has_value());
+  EXPECT_EQ(*v.winner, 1U);
+  ASSERT_EQ(v.alike.size(), 1U);
+  // A setting that hears a third of the frames is not alike: something there is wrong.
+  const auto apart = judge_probe({clean(LineSettings{1200, Parity::kNone, 1}, 9),
+                                  clean(LineSettings{1200, Parity::kEven, 1}, 3)},
+                                 false);
+  ASSERT_TRUE(apart.winner.has_value());
+  EXPECT_EQ(*apart.winner, 0U);
+  EXPECT_TRUE(apart.alike.empty());
+}
+
 TEST(ProbeReport, EveryByteFlaggedInCrcValidFramesIsTheWrongParity) {
   auto odd = clean(LineSettings{9600, Parity::kOdd, 1}, 30);
   odd.parity_errors = odd.bytes;
@@ -97,6 +146,12 @@ TEST(ProbeReport, EveryByteFlaggedInCrcValidFramesIsTheWrongParity) {
   EXPECT_EQ(table[*v.winner].line.parity, Parity::kEven);
   EXPECT_TRUE(v.alike.empty());
   EXPECT_TRUE(has_diagnosis(v, "parity errors on every byte at 9600 8O1"));
+  // The bus is 8E1 and probe heard it so: what it says is about a device set to 8O1.
+  EXPECT_TRUE(has_diagnosis(v, "a device set to 9600 8O1 on this 9600 8E1 bus would reject"));
+  EXPECT_FALSE(has_diagnosis(v, "the parity is wrong"));
+  // Without a clean hearing of the bus (probe ran out of time first), try the others.
+  const auto alone = judge_probe({odd}, false);
+  EXPECT_TRUE(has_diagnosis(alone, "the parity is wrong, try even or none"));
 }
 
 TEST(ProbeReport, BurstsEndingInErrorsAtEverySettingAreASwappedPair) {

@@ -72,9 +72,12 @@ bool EvidenceCounter::settled() const {
   return e.frames == 0 || (e.frames >= kCleanFrames && e.flagged_frame_bytes == 0);
 }
 
-SettingEvidence EvidenceCounter::finish(Nanos listened) {
+SettingEvidence EvidenceCounter::finish(Nanos listened, Nanos stopped_at) {
   framer_.finish();
-  end_burst();
+  if (stopped_at == kUnknownTime || last_end_ == kUnknownTime ||
+      stopped_at - last_end_ > silence_) {
+    end_burst();
+  }
   last_end_ = kUnknownTime;
   evidence_.listened = listened;
   return evidence_;

@@ -55,7 +55,9 @@ class EvidenceCounter final : public RecordSink {
   // not time, so a slow bus gets as many chances as a fast one.
   [[nodiscard]] bool settled() const;
   // Ends the listening (what is buffered is decided) and returns the evidence.
-  SettingEvidence finish(Nanos listened);
+  // `stopped_at`: when listening stopped (the chunks' clock); a burst still going on then
+  // was cut, its real end unseen, and is left out. kUnknownTime counts it.
+  SettingEvidence finish(Nanos listened, Nanos stopped_at = kUnknownTime);
 
  private:
   void on_record(Record& record) override;

@@ -46,7 +46,8 @@ Listened listen_at(const std::string& port, const LineSettings& line, Nanos dwel
       [&io](const std::error_code&) { io.stop(); });
   timer.async_wait([&source](const boost::system::error_code&) { source.close(); });
   io.run();
-  return {counter.finish(clock.now() - start), status.notes};
+  const Nanos stopped = clock.now();
+  return {counter.finish(stopped - start, stopped), status.notes};
 }
 
 // A setting whose frames leave no doubt: enough of them, no error inside any, and most

@@ -238,6 +238,8 @@ std::string probe_json(const std::vector<SettingEvidence>& table, const ProbeVer
     j.field("breaks", e.breaks);
     j.field("noise_bytes", e.noise_bytes());
     j.field("lone_bytes", e.lone_bytes);
+    j.field("bursts", e.bursts);
+    j.field("bursts_ending_flagged", e.bursts_ending_flagged);
     j.end_object();
   };
   j.begin_object();

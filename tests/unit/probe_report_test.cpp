@@ -103,6 +103,25 @@ TEST(ProbeReport, ASettingIsSettledByEightBurstsThatLeaveNoDoubt) {
   EXPECT_FALSE(wrong_parity.back());
 }
 
+// Listening that stops inside a burst has not seen how it ends: on a swapped pair that
+// burst would count as one not ending in an error.
+TEST(ProbeReport, ABurstCutByTheEndOfListeningIsLeftOut) {
+  const auto s = LineSettings{9600, Parity::kEven, 1};
+  const std::vector<std::uint8_t> bytes = {0x13, 0x77};
+  const auto bursts_when_stopped = [&](Nanos stopped_at) {
+    EvidenceCounter counter(s, kNanosPerMilli);
+    for (int i = 1; i <= 3; ++i) {
+      Chunk chunk;
+      chunk.t_end = i * 100 * kNanosPerMilli;
+      chunk.bytes = bytes;
+      counter.push(chunk);
+    }
+    return counter.finish(300 * kNanosPerMilli, stopped_at).bursts;
+  };
+  EXPECT_EQ(bursts_when_stopped(300 * kNanosPerMilli + 1), 2U);
+  EXPECT_EQ(bursts_when_stopped(400 * kNanosPerMilli), 3U);
+}
+
 TEST(ProbeReport, SettingsReadAlikeAreChosenByTheModbusRule) {
   // 8N1 heard one frame more than 8E1 by chance; the rule still picks even parity.
   const std::vector<SettingEvidence> table = {

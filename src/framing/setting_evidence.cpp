@@ -64,12 +64,14 @@ void EvidenceCounter::push(const Chunk& chunk) {
   framer_.push(chunk);
 }
 
+bool SettingEvidence::reads_clean() const {
+  return frames >= 3 && flagged_frame_bytes == 0 && clean_share() >= 0.8;
+}
+
 bool EvidenceCounter::settled() const {
   constexpr std::uint64_t kSettlingBursts = 8;
-  constexpr std::uint64_t kCleanFrames = 4;
-  const SettingEvidence& e = evidence_;
-  if (e.bursts < kSettlingBursts) return false;
-  return e.frames == 0 || (e.frames >= kCleanFrames && e.flagged_frame_bytes == 0);
+  if (evidence_.bursts < kSettlingBursts) return false;
+  return evidence_.frames == 0 || evidence_.reads_clean();
 }
 
 SettingEvidence EvidenceCounter::finish(Nanos listened, Nanos stopped_at) {

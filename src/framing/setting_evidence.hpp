@@ -42,6 +42,9 @@ struct SettingEvidence {
   [[nodiscard]] double clean_share() const;
   // CRC-valid frames per second, scaled by the clean share: 0 when nothing fits.
   [[nodiscard]] double score() const;
+  // Frames that leave no doubt: enough of them, no error inside any, and most bytes
+  // explained (lone glitch bytes between frames do not make a setting wrong).
+  [[nodiscard]] bool reads_clean() const;
 };
 
 // Feeds the chunks read at one setting through a Framer and counts what it finds.
@@ -51,7 +54,7 @@ class EvidenceCounter final : public RecordSink {
   EvidenceCounter(const LineSettings& line, Nanos resolution);
   void push(const Chunk& chunk);
   // Enough exchanges heard that listening on cannot change the verdict: the setting reads
-  // them as clean frames, or it read them and found no frame at all. Counted in bursts,
+  // them clean (SettingEvidence::reads_clean), or it found no frame at all. Counted in bursts,
   // not time, so a slow bus gets as many chances as a fast one.
   [[nodiscard]] bool settled() const;
   // Ends the listening (what is buffered is decided) and returns the evidence.

@@ -50,12 +50,6 @@ Listened listen_at(const std::string& port, const LineSettings& line, Nanos dwel
   return {counter.finish(stopped - start, stopped), status.notes};
 }
 
-// A setting whose frames leave no doubt: enough of them, no error inside any, and most
-// bytes explained (lone glitch bytes between frames do not make a setting wrong).
-bool clear_winner(const SettingEvidence& e) {
-  return e.frames >= 3 && e.flagged_frame_bytes == 0 && e.clean_share() >= 0.8;
-}
-
 }  // namespace
 
 std::vector<LineSettings> probe_candidates(bool quick) {
@@ -135,7 +129,7 @@ ProbeRun run_probe(const ProbeOptions& options,
       const SettingEvidence e = listen(candidate);
       any_bytes = any_bytes || e.bytes > 0;
       if (!any_bytes && ++silent == kSilentSettingsForQuiet && on_quiet) on_quiet();
-      if (options.quick && clear_winner(e)) {
+      if (options.quick && e.reads_clean()) {
         // The other framings at this baud: a UART reads some of them alike, and the
         // errors of the others tell the parity.
         for (const auto& sibling : options.candidates) {

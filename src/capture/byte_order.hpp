@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -12,15 +13,33 @@ namespace rtu {
 
 enum class ByteOrder : std::uint8_t { kLittle, kBig };
 
-// Reads `N` bytes at `p` as an unsigned integer. The caller has checked the bounds.
+constexpr ByteOrder host_byte_order() {
+  return std::endian::native == std::endian::big ? ByteOrder::kBig : ByteOrder::kLittle;
+}
+
+// Reverses the bytes of an unsigned integer (std::byteswap is C++23).
+template <typename T>
+T swap_bytes(T value) {
+  if constexpr (sizeof(T) == 1) {
+    return value;
+  } else if constexpr (sizeof(T) == 2) {
+    return __builtin_bswap16(value);
+  } else if constexpr (sizeof(T) == 4) {
+    return __builtin_bswap32(value);
+  } else {
+    static_assert(sizeof(T) == 8);
+    return __builtin_bswap64(value);
+  }
+}
+
+// Reads sizeof(T) bytes at `p` as an unsigned integer. The caller has checked the bounds.
+// One load and at most one byte swap: the binary readers do this for every field of every
+// block, which a loop over the bytes made a visible part of reading a capture.
 template <typename T>
 T load(const std::uint8_t* p, ByteOrder order) {
   T value = 0;
-  for (std::size_t i = 0; i < sizeof(T); ++i) {
-    const std::size_t index = order == ByteOrder::kBig ? i : sizeof(T) - 1 - i;
-    value = static_cast<T>((value << 8U) | p[index]);
-  }
-  return value;
+  std::memcpy(&value, p, sizeof(T));
+  return order == host_byte_order() ? value : swap_bytes(value);
 }
 
 inline std::uint16_t load_u16(std::span<const std::uint8_t> b, std::size_t at, ByteOrder o) {
@@ -49,10 +68,6 @@ void store(std::vector<std::uint8_t>& out, std::size_t at, T value, ByteOrder or
     const std::size_t shift = order == ByteOrder::kBig ? 8 * (sizeof(T) - 1 - i) : 8 * i;
     out[at + i] = static_cast<std::uint8_t>((static_cast<std::uint64_t>(value) >> shift) & 0xFFU);
   }
-}
-
-constexpr ByteOrder host_byte_order() {
-  return std::endian::native == std::endian::big ? ByteOrder::kBig : ByteOrder::kLittle;
 }
 
 }  // namespace rtu

@@ -24,12 +24,11 @@ std::uint8_t errors_of(std::uint8_t event) {
   }
 }
 
-// A CAPTURE_COMPLETE record without bytes: the end of a live capture.
+// A CAPTURE_COMPLETE record without bytes: the end of a live capture. Looked at directly
+// (the header's event byte): asked of every record.
 bool is_capture_complete(std::span<const std::uint8_t> record) {
-  std::string error;
-  const auto rec = parse_rtac_record(record, error);
-  return rec && static_cast<RtacEvent>(rec->event) == RtacEvent::kCaptureComplete &&
-         rec->payload.empty();
+  return record.size() == kRtacHeaderSize &&
+         static_cast<RtacEvent>(record[kRtacEventOffset]) == RtacEvent::kCaptureComplete;
 }
 
 }  // namespace
@@ -201,10 +200,9 @@ bool PcapImporter::next(PcapItem& out) {
       // Wireshark writes records whose PDU is empty; they hold no byte, so no frame or
       // noise (a 0-byte "frame" would be a request of slave 0 that nobody answers).
       if (pdu->payload.empty()) continue;
-      bytes_.assign(pdu->payload.begin(), pdu->payload.end());
       out = PcapItem{};
       out.kind = pdu->dissector == "data" ? PcapItem::Kind::kNoise : PcapItem::Kind::kFrame;
-      out.bytes = bytes_;
+      out.bytes = pdu->payload;  // in the reader's block, which stays until the next call
       out.t_start = packet_.t;
       out.offset = at;
       out.resolution = packet_.resolution;
@@ -239,13 +237,18 @@ bool PcapImporter::next(PcapItem& out) {
       const std::uint8_t flags = errors_of(rec->event);
       if (rec->payload.empty()) {
         pending_errors_ = static_cast<std::uint8_t>(pending_errors_ | flags);
-      }
-      for (const std::uint8_t b : rec->payload) {
-        bytes_.push_back(b);
-        const auto e = static_cast<std::uint8_t>(flags | pending_errors_);
+      } else {
+        // The first byte also takes the errors of the events before it. Error flags are
+        // kept only once a byte has one (clean reads, nearly all of them, need none).
+        const auto first = static_cast<std::uint8_t>(flags | pending_errors_);
         pending_errors_ = 0;
-        any_error = any_error || e != 0;
-        errors_.push_back(e);
+        if (first != 0 || flags != 0) {
+          any_error = true;
+          errors_.resize(bytes_.size(), kLineOk);
+          errors_.push_back(first);
+          errors_.resize(bytes_.size() + rec->payload.size(), flags);
+        }
+        bytes_.insert(bytes_.end(), rec->payload.begin(), rec->payload.end());
       }
       have_packet_ = false;
       try {
@@ -259,7 +262,10 @@ bool PcapImporter::next(PcapItem& out) {
     if (bytes_.empty()) continue;  // events with no bytes: carried to the next byte
     out.chunk.t_end = t;
     out.chunk.bytes = bytes_;
-    if (any_error) out.chunk.errors = errors_;
+    if (any_error) {
+      errors_.resize(bytes_.size(), kLineOk);
+      out.chunk.errors = errors_;
+    }
     out.chunk.origin = at;
     return true;
   }

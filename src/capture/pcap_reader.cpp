@@ -17,6 +17,7 @@ namespace rtu {
 namespace {
 
 constexpr std::array<std::uint8_t, 4> kShbTypeBytes = {0x0A, 0x0D, 0x0D, 0x0A};
+constexpr std::size_t kReadSize = 1024 * 1024;  // what one read from the file asks for
 
 struct Interface {
   std::uint16_t link_type = 0;
@@ -123,7 +124,13 @@ struct PcapReader::Impl {
   std::int64_t section = -1;
   std::vector<Interface> interfaces;
 
-  std::vector<std::uint8_t> block;  // current block / record, reused
+  // The file is read in large pieces into `buffer`; a block is parsed where it lies there.
+  // buffer[head, tail) holds bytes read from the file and not yet passed; the current block
+  // (or record) is its first block.size() bytes, a view valid until the next block starts.
+  std::vector<std::uint8_t> buffer;
+  std::size_t head = 0;
+  std::size_t tail = 0;
+  std::span<const std::uint8_t> block;
   std::string comment;
 
   [[noreturn]] void fail(std::uint64_t at, std::string_view what) {
@@ -131,17 +138,40 @@ struct PcapReader::Impl {
     throw InputError(fmt::format("{}: offset {}: {}", name, at, what));
   }
 
-  // Appends up to `n` bytes to `block`; returns how many were available.
+  // The next block starts after the current one.
+  void start_block() {
+    head += block.size();
+    block = {buffer.data() + head, 0};
+  }
+
+  // Extends `block` by up to `n` bytes of the file; returns how many were available.
   std::size_t read_more(std::size_t n) {
-    const std::size_t old = block.size();
-    block.resize(old + n);
-    // Straight from the stream's buffer: a block is read in two pieces, and istream::read's
-    // sentry per piece cost more than the copy on captures of millions of small blocks.
-    const auto got = static_cast<std::size_t>(in->rdbuf()->sgetn(
-        reinterpret_cast<char*>(block.data() + old), static_cast<std::streamsize>(n)));
-    block.resize(old + got);
+    const std::size_t want = block.size() + n;
+    if (tail - head < want) fill(want);
+    const std::size_t got = std::min(n, tail - head - block.size());
+    block = {buffer.data() + head, block.size() + got};
     offset += got;
     return got;
+  }
+
+  // Reads until buffer[head, tail) holds `want` bytes or the file ends. Large reads straight
+  // from the stream's buffer: a call per block cost more than the parsing on captures of
+  // millions of small blocks.
+  void fill(std::size_t want) {
+    if (buffer.size() - head < want) {
+      std::copy(buffer.begin() + static_cast<std::ptrdiff_t>(head),
+                buffer.begin() + static_cast<std::ptrdiff_t>(tail), buffer.begin());
+      tail -= head;
+      head = 0;
+      if (buffer.size() < want) buffer.resize(std::max(want, kReadSize));
+    }
+    while (tail - head < want) {
+      const auto got = static_cast<std::size_t>(
+          in->rdbuf()->sgetn(reinterpret_cast<char*>(buffer.data() + tail),
+                             static_cast<std::streamsize>(buffer.size() - tail)));
+      if (got == 0) break;
+      tail += got;
+    }
   }
 
   bool accepts(std::uint16_t link_type) const {
@@ -162,7 +192,6 @@ struct PcapReader::Impl {
   }
 
   void open() {
-    block.clear();
     const std::size_t got = read_more(4);
     if (got < 4 || !is_pcap_file_start(block)) {
       fail(0,
@@ -199,7 +228,7 @@ struct PcapReader::Impl {
 
   bool next_pcap(CapturePacket& out) {
     const std::uint64_t at = offset;
-    block.clear();
+    start_block();
     const std::size_t got = read_more(pcap::kRecordHeaderSize);
     if (got == 0) return false;
     if (got < pcap::kRecordHeaderSize) {
@@ -371,7 +400,7 @@ struct PcapReader::Impl {
         at = 0;
         got = block.size();
       } else {
-        block.clear();
+        start_block();
       }
       got += read_more(8 - got);
       if (got == 0) {

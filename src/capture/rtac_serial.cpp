@@ -40,7 +40,7 @@ std::optional<RtacRecord> parse_rtac_record(std::span<const std::uint8_t> record
   RtacRecord r;
   r.seconds = load_u32(record, 0, ByteOrder::kBig);
   r.micros = load_u32(record, 4, ByteOrder::kBig);
-  r.event = record[8];
+  r.event = record[kRtacEventOffset];
   r.control_lines = record[9];
   r.footer = load_u16(record, 10, ByteOrder::kBig);
   r.payload = record.subspan(kRtacHeaderSize);

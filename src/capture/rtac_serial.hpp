@@ -15,6 +15,7 @@
 namespace rtu {
 
 inline constexpr std::size_t kRtacHeaderSize = 12;
+inline constexpr std::size_t kRtacEventOffset = 8;  // the event type's byte in the header
 
 // Event types, with the names Wireshark shows.
 enum class RtacEvent : std::uint8_t {

@@ -41,16 +41,17 @@ bool scale_to_nanos(DigitAt digit_at, long count, long point, std::uint64_t& out
 }
 
 // The shape nearly every capture writes, "1700000000.123456": no sign, no exponent, at most
-// 10 whole and 9 fraction digits, so the value fits int64 ns without rounding. Returns
-// false for anything else, which the general parser below then reads.
-bool parse_plain_seconds(std::string_view text, ParsedTime& out) {
+// 10 whole and 9 fraction digits, so the value fits int64 ns without rounding. Reads it
+// from the start of `text` up to the first character that cannot continue it, and returns
+// how many characters that was; 0 (and `out` untouched) when they are not that shape.
+std::size_t scan_plain_seconds(std::string_view text, ParsedTime& out) {
   constexpr std::size_t kMaxWhole = 10;
   constexpr std::size_t kMaxFraction = 9;
   std::size_t i = 0;
   std::uint64_t whole = 0;
   while (i < text.size() && is_digit(text[i])) {
     whole = whole * 10U + static_cast<unsigned>(text[i] - '0');
-    if (++i > kMaxWhole) return false;
+    if (++i > kMaxWhole) return 0;
   }
   const std::size_t whole_digits = i;
   std::uint64_t fraction = 0;
@@ -59,18 +60,25 @@ bool parse_plain_seconds(std::string_view text, ParsedTime& out) {
     ++i;
     while (i < text.size() && is_digit(text[i])) {
       fraction = fraction * 10U + static_cast<unsigned>(text[i] - '0');
-      if (++fraction_digits > kMaxFraction) return false;
+      if (++fraction_digits > kMaxFraction) return 0;
       ++i;
     }
   }
-  if (i != text.size() || whole_digits + fraction_digits == 0) return false;
+  if (whole_digits + fraction_digits == 0) return 0;
   for (std::size_t d = fraction_digits; d < kMaxFraction; ++d) fraction *= 10U;
   // Ten whole digits can pass int64 ns (9223372036.854775808): the general parser says so.
   const std::uint64_t ns = whole * 1'000'000'000U + fraction;
-  if (ns > kMaxMagnitude) return false;
+  if (ns > kMaxMagnitude) return 0;
   out.status = ParsedTime::Status::kOk;
   out.ns = static_cast<Nanos>(ns);
   out.decimals = static_cast<int>(fraction_digits);
+  return i;
+}
+
+bool parse_plain_seconds(std::string_view text, ParsedTime& out) {
+  ParsedTime parsed;
+  if (scan_plain_seconds(text, parsed) != text.size()) return false;
+  out = parsed;
   return true;
 }
 
@@ -80,6 +88,17 @@ Nanos step_for_decimals(int decimals) {
   Nanos step = 1;
   for (int d = decimals; d < 9; ++d) step *= 10;
   return step;
+}
+
+std::size_t parse_plain_seconds_word(std::string_view text, ParsedTime& out) {
+  ParsedTime parsed;
+  const std::size_t length = scan_plain_seconds(text, parsed);
+  if (length == 0) return 0;
+  if (length < text.size() && text[length] != ' ' && text[length] != '\t' && text[length] != '#') {
+    return 0;
+  }
+  out = parsed;
+  return length;
 }
 
 ParsedTime parse_decimal_seconds(std::string_view text, bool allow_exponent) {

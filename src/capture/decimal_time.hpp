@@ -24,6 +24,13 @@ struct ParsedTime {
 // whose magnitude does not fit int64 nanoseconds (about ±292 years) are kOutOfRange.
 ParsedTime parse_decimal_seconds(std::string_view text, bool allow_exponent);
 
+// The common case of a timestamp word, in one pass: when `text` starts with plain decimal
+// seconds ("1700000000.123456": digits, an optional fraction, at most 10 + 9 digits) ended by
+// a blank, '#' or the end of the text, sets `out` as parse_decimal_seconds would and returns
+// the word's length. Else returns 0, and the caller cuts the word and parses it as above
+// (which also says what is wrong with it).
+std::size_t parse_plain_seconds_word(std::string_view text, ParsedTime& out);
+
 // ISO 8601 date and time, "2022-06-29T04:05:27.591152100+00:00" ('T' or ' ' between date and
 // time; fraction optional; offset "Z", "+HH:MM", "-HH:MM", "+HHMM" or none, meaning UTC),
 // as nanoseconds since 1970-01-01T00:00:00Z.

@@ -103,8 +103,14 @@ bool TextHexReader::read_data_line() {
 }
 
 void TextHexReader::parse_data(std::string_view line, std::size_t start) {
-  const std::string_view stamp = word_at(line, start, '#');
-  const ParsedTime t = parse_decimal_seconds(stamp, /*allow_exponent=*/false);
+  // Nearly every line's stamp takes the one-pass path; the rest are cut and parsed whole.
+  ParsedTime t;
+  const std::string_view rest = line.substr(start);
+  std::string_view stamp = rest.substr(0, parse_plain_seconds_word(rest, t));
+  if (stamp.empty()) {
+    stamp = word_at(line, start, '#');
+    t = parse_decimal_seconds(stamp, /*allow_exponent=*/false);
+  }
   if (t.status == ParsedTime::Status::kOutOfRange) {
     fail(start, fmt::format("timestamp out of range (more than 292 years from the epoch), found {}",
                             found_text(stamp)));

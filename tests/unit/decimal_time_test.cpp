@@ -70,6 +70,45 @@ TEST(DecimalTime, PlainTimesEqualTheGeneralParser) {
   }
 }
 
+// The one-pass word reader of text captures: the same value as the whole-word parser where
+// it answers, the word's length, and 0 (leave it to the general parser) for anything else.
+TEST(DecimalTime, PlainSecondsWordMatchesTheWordParsedWhole) {
+  struct Case {
+    std::string_view line;
+    std::size_t length;  // 0: not a plain word
+  };
+  const Case cases[] = {{"0.000572916 01", 11},
+                        {"12.5\t03", 4},
+                        {"7#comment", 1},
+                        {"1700000000.123456", 17},
+                        {"5. 01", 2},
+                        {".5 01", 2},
+                        {"1e3 01", 0},
+                        {"-1.5 01", 0},
+                        {"1.5x 01", 0},
+                        {"1.2.3 01", 0},
+                        {" 1.5", 0},
+                        {"", 0},
+                        {".", 0},
+                        {"12345678901 01", 0},
+                        {"1.0000000001 01", 0},
+                        {"9223372036.854775808 01", 0}};
+  for (const Case& c : cases) {
+    ParsedTime word;
+    word.ns = 42;
+    const std::size_t length = parse_plain_seconds_word(c.line, word);
+    EXPECT_EQ(length, c.length) << c.line;
+    if (length == 0) {
+      EXPECT_EQ(word.ns, 42) << "left untouched: " << c.line;
+      continue;
+    }
+    const ParsedTime whole = parse_decimal_seconds(c.line.substr(0, length), false);
+    EXPECT_TRUE(whole.ok()) << c.line;
+    EXPECT_EQ(word.ns, whole.ns) << c.line;
+    EXPECT_EQ(word.decimals, whole.decimals) << c.line;
+  }
+}
+
 TEST(DecimalTime, SyntaxErrors) {
   for (const char* bad : {"", "-", ".", "1..2", "1e", "1e+", "1e5", " 1", "1 ", "0x10", "1,5"}) {
     EXPECT_EQ(parse_decimal_seconds(bad, std::string_view(bad) != "1e5").status,

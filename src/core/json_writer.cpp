@@ -1,6 +1,7 @@
 #include "core/json_writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -158,6 +159,29 @@ void JsonWriter::hex(std::span<const std::uint8_t> bytes) {
     *p++ = kDigits[b & 0xFU];
   }
   *p = '"';
+}
+
+void JsonWriter::u16_be_array(std::span<const std::uint8_t> bytes) {
+  separate();
+  const std::size_t count = bytes.size() / 2;
+  constexpr std::size_t kMaxChars = 6;  // "65535,"
+  const std::size_t at = out_.size();
+  out_.resize(at + 2 + count * kMaxChars);
+  char* p = out_.data() + at;
+  *p++ = '[';
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i > 0) *p++ = ',';
+    unsigned v = (unsigned{bytes[2 * i]} << 8U) | unsigned{bytes[2 * i + 1]};
+    std::array<char, 5> reversed{};
+    std::size_t n = 0;
+    do {
+      reversed[n++] = static_cast<char>('0' + v % 10U);
+      v /= 10U;
+    } while (v != 0);
+    while (n > 0) *p++ = reversed[--n];
+  }
+  *p++ = ']';
+  out_.resize(static_cast<std::size_t>(p - out_.data()));
 }
 
 }  // namespace rtu

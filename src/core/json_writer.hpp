@@ -33,7 +33,17 @@ class JsonWriter {
   void null();
   // A value already rendered as JSON (e.g. an exact decimal); written as is.
   void value_raw(std::string_view json_text);
+  // For a value rendered straight into the output (e.g. an exact decimal): the buffer to
+  // append its JSON text to, once the separator before it is written. Saves a copy on
+  // values every record has.
+  fmt::memory_buffer& raw_value_buffer() {
+    separate();
+    return out_;
+  }
   void hex(std::span<const std::uint8_t> bytes);  // "0103..." lowercase, quoted
+  // [w0,w1,...]: the unsigned 16-bit big-endian words of `bytes` (an odd last byte is left
+  // out), written in one go: register values are most of what a decoded record holds.
+  void u16_be_array(std::span<const std::uint8_t> bytes);
 
   template <typename T>
   void field(std::string_view name, T v) {

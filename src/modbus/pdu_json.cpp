@@ -59,9 +59,7 @@ void write_optional(JsonWriter& json, std::string_view key, std::optional<std::u
 
 void write_words(JsonWriter& json, std::string_view key, WordView words) {
   json.key(key);
-  json.begin_array();
-  for (std::size_t i = 0; i < words.size(); ++i) json.value(unsigned{words[i]});
-  json.end_array();
+  json.u16_be_array(words.bytes());
 }
 
 void write_bits(JsonWriter& json, std::string_view key, BitView bits) {

@@ -14,10 +14,8 @@ namespace {
 
 void write_time_key(JsonWriter& json, std::string_view key, Nanos t) {
   // Exact decimal seconds: written as a JSON number without going through a double.
-  fmt::memory_buffer text;
-  append_seconds(text, t);
   json.key(key);
-  json.value_raw(std::string_view(text.data(), text.size()));
+  append_seconds(json.raw_value_buffer(), t);
 }
 
 void write_millis_key(JsonWriter& json, std::string_view key, Nanos t) {
@@ -26,9 +24,7 @@ void write_millis_key(JsonWriter& json, std::string_view key, Nanos t) {
     json.null();
     return;
   }
-  fmt::memory_buffer text;
-  append_millis(text, t);
-  json.value_raw(std::string_view(text.data(), text.size()));
+  append_millis(json.raw_value_buffer(), t);
 }
 
 void write_issues(JsonWriter& json, const IssueSet& issues) {

@@ -45,9 +45,7 @@ void write_percentiles(JsonWriter& j, const LogHistogram& h) {
 }
 
 void write_seconds(JsonWriter& j, Nanos t) {
-  fmt::memory_buffer b;
-  append_seconds(b, t, 9);
-  j.value_raw(std::string_view(b.data(), b.size()));
+  append_seconds(j.raw_value_buffer(), t, 9);
 }
 
 void write_capture(JsonWriter& j, const CaptureInfo& info) {

@@ -1,0 +1,50 @@
+#include "core/json_writer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtu {
+namespace {
+
+std::string written(const std::vector<std::uint8_t>& bytes) {
+  fmt::memory_buffer out;
+  JsonWriter json(out);
+  json.begin_object();
+  json.field("a", 1U);
+  json.key("values");
+  json.u16_be_array(bytes);
+  json.field("z", 2U);
+  json.end_object();
+  return fmt::to_string(out);
+}
+
+// Register values are written digit by digit in one go: every width, the extremes, an
+// empty array and an odd trailing byte, with the separators around the array intact.
+TEST(JsonWriter, BigEndianWordArray) {
+  EXPECT_EQ(written({}), R"({"a":1,"values":[],"z":2})");
+  EXPECT_EQ(written({0x00, 0x00}), R"({"a":1,"values":[0],"z":2})");
+  EXPECT_EQ(written({0x00, 0x09, 0x00, 0x0A, 0x00, 0x63, 0x00, 0x64, 0x03, 0xE7, 0x03, 0xE8, 0x27,
+                     0x0F, 0x27, 0x10, 0xFF, 0xFF}),
+            R"({"a":1,"values":[9,10,99,100,999,1000,9999,10000,65535],"z":2})");
+  EXPECT_EQ(written({0x12, 0x34, 0x56}), R"({"a":1,"values":[4660],"z":2})");
+}
+
+// Every 16-bit value reads back as the number it is.
+TEST(JsonWriter, BigEndianWordArrayHoldsEveryValue) {
+  std::vector<std::uint8_t> bytes;
+  std::string expected = R"({"a":1,"values":[)";
+  for (unsigned v = 0; v <= 0xFFFFU; ++v) {
+    bytes.push_back(static_cast<std::uint8_t>(v >> 8U));
+    bytes.push_back(static_cast<std::uint8_t>(v & 0xFFU));
+    if (v > 0) expected += ',';
+    expected += std::to_string(v);
+  }
+  expected += R"(],"z":2})";
+  EXPECT_EQ(written(bytes), expected);
+}
+
+}  // namespace
+}  // namespace rtu

@@ -36,6 +36,8 @@ class TransactionTracker : public RecordSink {
   // no advance() between is treated the same, so the verdict never depends on when
   // advance() was called.
   void advance(Nanos now);
+  // A request waits for its answer and advance() may still time it out.
+  [[nodiscard]] bool awaits_timeout() const { return awaiting_answer() && !released_; }
 
  private:
   static constexpr std::size_t kMaxHeld = 64;

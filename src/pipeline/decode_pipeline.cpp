@@ -241,6 +241,14 @@ void DecodePipeline::idle(Nanos now) {
   impl_->tracker.advance(decided_until);
 }
 
+bool DecodePipeline::awaits_idle() const {
+  if (!impl_->started) return false;
+  for (const auto& framer : impl_->framers) {
+    if (framer->oldest_pending_start() != kUnknownTime) return true;
+  }
+  return impl_->merge.oldest_pending_start() != kUnknownTime || impl_->tracker.awaits_timeout();
+}
+
 void DecodePipeline::finish() {
   for (auto& framer : impl_->framers) framer->finish();
   impl_->merge.flush();

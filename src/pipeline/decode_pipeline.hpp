@@ -51,6 +51,10 @@ class DecodePipeline {
   // calls it while the line is quiet. Both decide at the same point of the byte stream,
   // so a live run and the replay of its recording give identical records.
   void idle(Nanos now);
+  // Whether an idle() call could still decide something: a framer or the merge holds
+  // bytes or records, or a request waits for its answer or its timeout. When not, idle()
+  // has nothing to do until the next push(), so a live capture need not wake up for it.
+  [[nodiscard]] bool awaits_idle() const;
   // The timing resolution in force now (raised from the configured one by what was learned).
   [[nodiscard]] Nanos timing_resolution() const;
   // Flushes partial frames and open transactions.

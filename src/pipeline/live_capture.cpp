@@ -144,6 +144,7 @@ void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   }
   if (recorder_ != nullptr) recorder_->on_chunk(port.index, chunk);
   pipeline_->push(chunk);
+  if (!idle_armed_ && pipeline_->awaits_idle()) schedule_idle();
 }
 
 void LiveCapture::on_port_error(Port& port, const std::error_code& error) {
@@ -182,7 +183,11 @@ void LiveCapture::schedule_reopen(Port& port) {
   });
 }
 
+// The idle timer runs only while the pipeline has something an idle moment could decide:
+// on a quiet line the capture sleeps until the next read instead of waking up every
+// idle_period, which was most of what a live run cost on a quiet or lightly used bus.
 void LiveCapture::schedule_idle() {
+  idle_armed_ = true;
   idle_timer_.expires_after(as_duration(options_.idle_period));
   idle_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec || stopped_) return;
@@ -191,13 +196,20 @@ void LiveCapture::schedule_idle() {
     // time taken now, so a late read is pushed (and seen as newer) before it.
     bool waiting = false;
     for (auto& port : ports_) waiting = waiting || port->source.pending_input() > 0;
-    if (!waiting) {
-      const Nanos now = clock_.now();
-      asio::post(io_, [this, now] {
-        if (!stopped_) pipeline_->idle(now);
-      });
+    if (waiting) {
+      schedule_idle();
+      return;
     }
-    schedule_idle();
+    const Nanos now = clock_.now();
+    asio::post(io_, [this, now] {
+      if (stopped_) return;
+      pipeline_->idle(now);
+      if (pipeline_->awaits_idle()) {
+        schedule_idle();
+      } else {
+        idle_armed_ = false;  // the next read arms it again
+      }
+    });
   });
 }
 

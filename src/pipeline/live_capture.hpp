@@ -5,9 +5,10 @@
 //  * Chunks of all ports are stamped on arrival on one CaptureClock and handled on one
 //    thread, so they reach the pipeline merged in time order. With two ports (the two
 //    directions of an RS-232/RS-422 link) each chunk keeps its port index for recorders.
-//  * A timer calls DecodePipeline::idle() every `idle_period`, so a frame is printed once
-//    the line has been quiet long enough, not when more bytes come. The pipeline decides
-//    at the same point of the byte stream as a replay of the recording does.
+//  * A timer calls DecodePipeline::idle() every `idle_period` while the pipeline holds
+//    something undecided, so a frame is printed once the line has been quiet long enough,
+//    not when more bytes come; with nothing undecided it sleeps until the next read. The
+//    pipeline decides at the same point of the byte stream as a replay of the recording.
 //  * A port that fails (USB adapter unplugged) is reported, recorded as a gap, and reopened
 //    every `reopen_period` until it comes back; the capture goes on.
 //  * stop() (SIGINT/SIGTERM in the command) closes the ports and flushes everything.
@@ -126,6 +127,7 @@ class LiveCapture {
   std::unique_ptr<DecodePipeline> pipeline_;
   std::vector<std::unique_ptr<Port>> ports_;
   boost::asio::steady_timer idle_timer_;
+  bool idle_armed_ = false;  // the idle timer runs (see schedule_idle)
   boost::asio::steady_timer flush_timer_;
   boost::asio::steady_timer stop_timer_;
   CaptureInfo info_;

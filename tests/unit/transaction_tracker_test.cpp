@@ -163,6 +163,37 @@ TEST(TransactionTracker, IdleMomentWithinTheDeliveryDelayDoesNotTimeOutAnAnswerO
   EXPECT_GE(sink.records[0].txn, 0);
 }
 
+// A live capture sleeps when an idle moment could decide nothing: that must be exactly when
+// no bytes are held and no request waits for its answer or its timeout.
+TEST(TransactionTracker, PipelineAwaitsIdleOnlyWhileSomethingIsUndecided) {
+  BusBuilder bus;
+  bus.add(kRead, 0).add(kRead, 500 * kMs).add(kReadAnswer, 20 * kMs);
+  PipelineOptions options;
+  options.line = bus.line();
+  options.response_timeout = 100 * kMs;
+  const auto chunks = bus.usb(16 * kMs, 64);
+  ASSERT_EQ(chunks.size(), 3U);
+  CollectingSink sink;
+  DecodePipeline pipeline(options, sink);
+  EXPECT_FALSE(pipeline.awaits_idle()) << "nothing read yet";
+  pipeline.push(chunks[0]);
+  EXPECT_TRUE(pipeline.awaits_idle()) << "the request's bytes are held";
+  pipeline.idle(chunks[0].t_end + 50 * kMs);
+  EXPECT_TRUE(sink.records.empty()) << "the tracker holds the request until it is decided";
+  EXPECT_TRUE(pipeline.awaits_idle()) << "the request waits for its answer";
+  pipeline.idle(chunks[0].t_end + 200 * kMs);
+  ASSERT_EQ(sink.records.size(), 1U);
+  EXPECT_TRUE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_FALSE(pipeline.awaits_idle()) << "timed out: nothing left to decide";
+  pipeline.push(chunks[1]);
+  EXPECT_TRUE(pipeline.awaits_idle()) << "the second request's bytes are held";
+  pipeline.push(chunks[2]);
+  pipeline.idle(chunks[2].t_end + 50 * kMs);
+  ASSERT_EQ(sink.records.size(), 3U);
+  EXPECT_EQ(sink.records[1].txn, sink.records[2].txn);
+  EXPECT_FALSE(pipeline.awaits_idle()) << "answered: nothing left to decide";
+}
+
 TEST(TransactionTracker, BroadcastExpectsNoResponse) {
   const auto broadcast = with_crc({0x00, 0x06, 0x00, 0x02, 0x00, 0x01});
   BusBuilder bus;

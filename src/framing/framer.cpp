@@ -86,6 +86,13 @@ void Framer::advance(Nanos now) {
   flush_noise();  // a silence ends a stretch of noise too
 }
 
+Nanos Framer::decidable_at() const {
+  if ((buffered() == 0 && noise_.size == 0) || last_byte_end_ == kUnknownTime) {
+    return kUnknownTime;
+  }
+  return last_byte_end_ + t3_5_ + std::max(resolution_, kDeliveryPatience);
+}
+
 Nanos Framer::oldest_pending_start() const {
   if (noise_.size > 0) return noise_.t_start;
   if (buffered() > 0) return info_at(0).t_end - char_time_;

@@ -76,9 +76,14 @@ class Framer {
   // Earliest start of a byte not yet read when nothing was read up to `now`: an adapter
   // may still hold bytes for its delivery delay (the resolution, at least
   // kDeliveryPatience), and one more may be on the wire.
-  [[nodiscard]] Nanos earliest_unread_start(Nanos now) const {
-    return now - std::max(resolution_, kDeliveryPatience) - char_time_;
+  [[nodiscard]] Nanos earliest_unread_start(Nanos now) const { return now - unread_reach(); }
+  // How far before a moment of quiet unread bytes may have started (see above).
+  [[nodiscard]] Nanos unread_reach() const {
+    return std::max(resolution_, kDeliveryPatience) + char_time_;
   }
+  // The moment from which advance() decides the bytes held now (the line quiet for t3.5
+  // beyond what an adapter may hold back); kUnknownTime when none are held.
+  [[nodiscard]] Nanos decidable_at() const;
 
  private:
   static constexpr std::size_t kWindow = 2048;             // bytes held while deciding

@@ -38,6 +38,10 @@ class TransactionTracker : public RecordSink {
   void advance(Nanos now);
   // A request waits for its answer and advance() may still time it out.
   [[nodiscard]] bool awaits_timeout() const { return awaiting_answer() && !released_; }
+  // The first moment advance() would time that request out; kUnknownTime when none waits.
+  [[nodiscard]] Nanos timeout_at() const {
+    return awaits_timeout() ? open_.t_end + config_.response_timeout + 1 : kUnknownTime;
+  }
 
  private:
   static constexpr std::size_t kMaxHeld = 64;

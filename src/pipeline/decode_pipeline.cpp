@@ -249,6 +249,22 @@ bool DecodePipeline::awaits_idle() const {
   return impl_->merge.oldest_pending_start() != kUnknownTime || impl_->tracker.awaits_timeout();
 }
 
+Nanos DecodePipeline::next_idle_decision() const {
+  Nanos next = kUnknownTime;
+  const auto take = [&next](Nanos t) {
+    if (t != kUnknownTime && (next == kUnknownTime || t < next)) next = t;
+  };
+  Nanos reach = 0;
+  for (const auto& framer : impl_->framers) {
+    take(framer->decidable_at());
+    reach = std::max(reach, framer->unread_reach());
+  }
+  // idle() decides timeouts only up to where unread bytes could start (see idle()).
+  const Nanos timeout = impl_->tracker.timeout_at();
+  if (timeout != kUnknownTime) take(timeout + reach);
+  return next;
+}
+
 void DecodePipeline::finish() {
   for (auto& framer : impl_->framers) framer->finish();
   impl_->merge.flush();

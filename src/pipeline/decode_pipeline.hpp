@@ -55,6 +55,10 @@ class DecodePipeline {
   // bytes or records, or a request waits for its answer or its timeout. When not, idle()
   // has nothing to do until the next push(), so a live capture need not wake up for it.
   [[nodiscard]] bool awaits_idle() const;
+  // The earliest moment an idle() call could decide what is held now: the line quiet long
+  // enough after the held bytes, or a waiting request's timeout with the delivery delay
+  // after it. kUnknownTime when that cannot be told (idle() may then be tried at any time).
+  [[nodiscard]] Nanos next_idle_decision() const;
   // The timing resolution in force now (raised from the configured one by what was learned).
   [[nodiscard]] Nanos timing_resolution() const;
   // Flushes partial frames and open transactions.

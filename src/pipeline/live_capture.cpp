@@ -108,7 +108,7 @@ void LiveCapture::start() {
   }
   started_at_ = clock_.now();
   for (auto& port : ports_) start_port(*port);
-  schedule_idle();
+  arm_idle_for_pipeline();
   if (recorder_ != nullptr) schedule_flush();
   if (options_.duration > 0) {
     stop_timer_.expires_after(as_duration(options_.duration));
@@ -144,7 +144,14 @@ void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   }
   if (recorder_ != nullptr) recorder_->on_chunk(port.index, chunk);
   pipeline_->push(chunk);
-  if (!idle_armed_ && pipeline_->awaits_idle()) schedule_idle();
+  // Armed already for a moment no later than what this read left to decide: nothing to do
+  // (most reads), else the timer moves.
+  if (!idle_armed_) {
+    arm_idle_for_pipeline();
+  } else if (const Nanos due = pipeline_->next_idle_decision();
+             due != kUnknownTime && due < idle_due_) {
+    arm_idle_for_pipeline();
+  }
 }
 
 void LiveCapture::on_port_error(Port& port, const std::error_code& error) {
@@ -183,12 +190,25 @@ void LiveCapture::schedule_reopen(Port& port) {
   });
 }
 
-// The idle timer runs only while the pipeline has something an idle moment could decide:
-// on a quiet line the capture sleeps until the next read instead of waking up every
-// idle_period, which was most of what a live run cost on a quiet or lightly used bus.
-void LiveCapture::schedule_idle() {
+// The idle timer runs only while the pipeline has something an idle moment could decide,
+// and wakes up when that can first be decided: on a quiet line the capture sleeps until the
+// next read, and a request waiting for its answer costs one wake-up, not one every
+// idle_period. Waking up was most of what a live run cost on a quiet or lightly used bus.
+void LiveCapture::arm_idle_for_pipeline() {
+  if (!pipeline_->awaits_idle()) {
+    idle_armed_ = false;  // the next read arms it again
+    return;
+  }
+  const Nanos now = clock_.now();
+  const Nanos due = pipeline_->next_idle_decision();
+  // Unknown, or already past and still undecided: try again after the usual period.
+  schedule_idle(due != kUnknownTime && due > now ? due - now : options_.idle_period);
+}
+
+void LiveCapture::schedule_idle(Nanos delay) {
   idle_armed_ = true;
-  idle_timer_.expires_after(as_duration(options_.idle_period));
+  idle_due_ = clock_.now() + delay;
+  idle_timer_.expires_after(as_duration(delay));
   idle_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec || stopped_) return;
     // The line is quiet only if no bytes wait in a driver, and no read that completed
@@ -197,18 +217,14 @@ void LiveCapture::schedule_idle() {
     bool waiting = false;
     for (auto& port : ports_) waiting = waiting || port->source.pending_input() > 0;
     if (waiting) {
-      schedule_idle();
+      schedule_idle(options_.idle_period);
       return;
     }
     const Nanos now = clock_.now();
     asio::post(io_, [this, now] {
       if (stopped_) return;
       pipeline_->idle(now);
-      if (pipeline_->awaits_idle()) {
-        schedule_idle();
-      } else {
-        idle_armed_ = false;  // the next read arms it again
-      }
+      arm_idle_for_pipeline();
     });
   });
 }

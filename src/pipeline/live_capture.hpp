@@ -5,10 +5,11 @@
 //  * Chunks of all ports are stamped on arrival on one CaptureClock and handled on one
 //    thread, so they reach the pipeline merged in time order. With two ports (the two
 //    directions of an RS-232/RS-422 link) each chunk keeps its port index for recorders.
-//  * A timer calls DecodePipeline::idle() every `idle_period` while the pipeline holds
-//    something undecided, so a frame is printed once the line has been quiet long enough,
-//    not when more bytes come; with nothing undecided it sleeps until the next read. The
-//    pipeline decides at the same point of the byte stream as a replay of the recording.
+//  * A timer calls DecodePipeline::idle() when what the pipeline holds can first be decided
+//    (DecodePipeline::next_idle_decision), so a frame is printed once the line has been
+//    quiet long enough, not when more bytes come; with nothing undecided it sleeps until the
+//    next read. The pipeline decides at the same point of the byte stream as a replay of
+//    the recording.
 //  * A port that fails (USB adapter unplugged) is reported, recorded as a gap, and reopened
 //    every `reopen_period` until it comes back; the capture goes on.
 //  * stop() (SIGINT/SIGTERM in the command) closes the ports and flushes everything.
@@ -114,7 +115,8 @@ class LiveCapture {
   void on_chunk(Port& port, const Chunk& chunk);
   void on_port_error(Port& port, const std::error_code& error);
   void schedule_reopen(Port& port);
-  void schedule_idle();
+  void arm_idle_for_pipeline();
+  void schedule_idle(Nanos delay);
   void schedule_flush();
 
   boost::asio::io_context& io_;
@@ -127,7 +129,8 @@ class LiveCapture {
   std::unique_ptr<DecodePipeline> pipeline_;
   std::vector<std::unique_ptr<Port>> ports_;
   boost::asio::steady_timer idle_timer_;
-  bool idle_armed_ = false;  // the idle timer runs (see schedule_idle)
+  bool idle_armed_ = false;        // the idle timer runs (see arm_idle_for_pipeline)
+  Nanos idle_due_ = kUnknownTime;  // when it fires, on clock_
   boost::asio::steady_timer flush_timer_;
   boost::asio::steady_timer stop_timer_;
   CaptureInfo info_;

@@ -194,6 +194,55 @@ TEST(TransactionTracker, PipelineAwaitsIdleOnlyWhileSomethingIsUndecided) {
   EXPECT_FALSE(pipeline.awaits_idle()) << "answered: nothing left to decide";
 }
 
+// The live timer wakes up when something can first be decided: not a moment earlier
+// (idle() would decide nothing) and, being exact, never later. Two cases: bytes a framer
+// holds (a request cut short) and a whole request waiting for its timeout.
+TEST(TransactionTracker, NextIdleDecisionIsTheFirstMomentIdleDecides) {
+  BusBuilder bus;
+  bus.add(kRead, 0);
+  PipelineOptions options;
+  options.line = bus.line();
+  options.response_timeout = 1000 * kMs;
+  options.timing_resolution = 16 * kMs;
+  options.learn_resolution = false;  // a lone read teaches nothing about the adapter
+  const auto chunks = bus.usb(16 * kMs, 64);
+  ASSERT_EQ(chunks.size(), 1U);
+
+  {  // Held bytes: the first five of the request, decided once the line stays quiet.
+    CollectingSink sink;
+    DecodePipeline pipeline(options, sink);
+    EXPECT_EQ(pipeline.next_idle_decision(), kUnknownTime);
+    Chunk cut = chunks[0];
+    cut.bytes = cut.bytes.first(5);
+    pipeline.push(cut);
+    const Nanos due = pipeline.next_idle_decision();
+    ASSERT_NE(due, kUnknownTime);
+    EXPECT_GT(due, cut.t_end);
+    EXPECT_LT(due, cut.t_end + 100 * kMs);
+    pipeline.idle(due - 1);
+    EXPECT_TRUE(sink.records.empty());
+    EXPECT_EQ(pipeline.next_idle_decision(), due) << "the bytes are still held";
+    pipeline.idle(due);
+    EXPECT_EQ(sink.records.size(), 1U) << "decided at that moment";
+  }
+  {  // A whole request: decided as it is read, then held until its timeout.
+    CollectingSink sink;
+    DecodePipeline pipeline(options, sink);
+    pipeline.push(chunks[0]);
+    const Nanos due = pipeline.next_idle_decision();
+    ASSERT_NE(due, kUnknownTime);
+    EXPECT_GT(due, chunks[0].t_end + options.response_timeout);
+    pipeline.idle(due - 1);
+    EXPECT_TRUE(sink.records.empty());
+    EXPECT_TRUE(pipeline.awaits_idle());
+    pipeline.idle(due);
+    ASSERT_EQ(sink.records.size(), 1U);
+    EXPECT_TRUE(sink.records[0].issues.has(IssueId::kTimeout));
+    EXPECT_EQ(pipeline.next_idle_decision(), kUnknownTime);
+    EXPECT_FALSE(pipeline.awaits_idle());
+  }
+}
+
 TEST(TransactionTracker, BroadcastExpectsNoResponse) {
   const auto broadcast = with_crc({0x00, 0x06, 0x00, 0x02, 0x00, 0x01});
   BusBuilder bus;

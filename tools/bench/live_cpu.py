@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""CPU of `rtuscope live` on a saturated virtual bus, as a plant would see it.
+
+    tools/bench/live_cpu.py [--baud 115200] [--seconds 60] [--usb-latency-ms 1]
+                            [--build build]
+
+A master and a slave endpoint of rtuvbus exchange CRC-valid Modbus frames back to back
+(requests of 8 bytes, answers of 5-69 bytes, a t3.5-sized pause between frames), which keeps
+the line about 90% busy. rtuscope listens on a third endpoint that receives through a
+USB-adapter model with the given latency timer (1 ms: the smallest reads a common adapter
+gives), writes JSON lines to /dev/null and records a pcapng. Prints the line load and the
+CPU that rtuscope used (utime + stime from /proc/PID/stat) as a share of one core.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import tty
+
+
+def crc16(data):
+    crc = 0xFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return bytes([crc & 0xFF, crc >> 8])
+
+
+def frames():
+    """A polling cycle: read 1..32 registers of slave 1, answered."""
+    cycle = []
+    for qty in range(1, 33):
+        request = bytes([1, 3, 0, 0, 0, qty])
+        answer = bytes([1, 3, 2 * qty]) + bytes(range(2 * qty))
+        cycle.append(request + crc16(request))
+        cycle.append(answer + crc16(answer))
+    return cycle
+
+
+def cpu_seconds(pid):
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--baud", type=int, default=115200)
+    ap.add_argument("--seconds", type=float, default=60)
+    ap.add_argument("--usb-latency-ms", type=float, default=1.0)
+    ap.add_argument("--build", default=os.path.join(os.path.dirname(__file__), "../../build"))
+    args = ap.parse_args()
+    char_s = 11 / args.baud  # 8E1
+    work = tempfile.mkdtemp(prefix="rtuscope-livecpu-")
+    links = os.path.join(work, "bus")
+    procs = []
+    try:
+        procs.append(subprocess.Popen(
+            [os.path.join(args.build, "rtuvbus"), "-n", "3", "--baud", str(args.baud),
+             "--link-dir", links, "--usb", "2", "--usb-latency-ms", str(args.usb_latency_ms)],
+            stdout=subprocess.DEVNULL))
+        deadline = time.monotonic() + 10
+        while not os.path.exists(os.path.join(links, "ep2")):
+            if time.monotonic() > deadline:
+                sys.exit("live_cpu: the virtual bus did not come up")
+            time.sleep(0.05)
+        live = subprocess.Popen(
+            [os.path.join(args.build, "rtuscope"), "live", os.path.join(links, "ep2"),
+             "--baud", str(args.baud), "--format", "jsonl", "-o", os.devnull,
+             "-w", os.path.join(work, "rec.pcapng")], stderr=subprocess.DEVNULL)
+        procs.append(live)
+        time.sleep(1)
+        writers = [os.open(os.path.join(links, f"ep{i}"), os.O_RDWR | os.O_NOCTTY)
+                   for i in (0, 1)]
+        for fd in writers:
+            tty.setraw(fd)
+            os.set_blocking(fd, False)  # each also hears the other: drained, never waited on
+        cycle = frames()
+        pause = 4 * char_s  # a little over t3.5 between frames
+        start_cpu = cpu_seconds(live.pid)
+        start = time.monotonic()
+        due = start
+        busy = 0.0
+        while time.monotonic() - start < args.seconds:
+            for i, frame in enumerate(cycle):
+                os.write(writers[i % 2], frame)
+                for fd in writers:
+                    try:
+                        os.read(fd, 4096)
+                    except BlockingIOError:
+                        pass
+                on_wire = len(frame) * char_s
+                busy += on_wire
+                due += on_wire + pause
+                delay = due - time.monotonic()
+                if delay > 0:
+                    time.sleep(delay)
+        elapsed = time.monotonic() - start
+        used = cpu_seconds(live.pid) - start_cpu
+        print(f"{args.baud} baud, line {100 * busy / elapsed:.0f}% busy, USB latency "
+              f"{args.usb_latency_ms:g} ms, {elapsed:.0f} s: rtuscope live used {used:.2f} s "
+              f"of CPU = {100 * used / elapsed:.2f}% of a core")
+        for fd in writers:
+            os.close(fd)
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+            p.wait()
+
+
+if __name__ == "__main__":
+    main()

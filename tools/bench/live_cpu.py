@@ -19,14 +19,9 @@ import tempfile
 import time
 import tty
 
-
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return bytes([crc & 0xFF, crc >> 8])
+# tools/pylib, found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
+from modbus_crc import with_crc  # noqa: E402  (after the path line)
 
 
 def frames():
@@ -35,8 +30,8 @@ def frames():
     for qty in range(1, 33):
         request = bytes([1, 3, 0, 0, 0, qty])
         answer = bytes([1, 3, 2 * qty]) + bytes(range(2 * qty))
-        cycle.append(request + crc16(request))
-        cycle.append(answer + crc16(answer))
+        cycle.append(with_crc(request))
+        cycle.append(with_crc(answer))
     return cycle
 
 

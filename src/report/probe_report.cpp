@@ -77,7 +77,9 @@ void diagnose(const std::vector<SettingEvidence>& table, ProbeVerdict& v) {
   const bool any_frames =
       std::any_of(table.begin(), table.end(), [](const auto& e) { return e.frames > 0; });
   // A swapped pair idles low: every burst ends in an error, at every rate (see
-  // SettingEvidence::bursts). Straight lines at wrong settings end only some so.
+  // SettingEvidence::bursts). Straight lines at wrong settings end only some so. One
+  // setting in ten may still read a swapped pair's bursts clean: where its UART happens
+  // to align on the inverted bits, the last character can end on a valid stop bit.
   std::uint64_t bursts = 0;
   std::uint64_t flagged = 0;
   std::size_t settings_heard = 0;
@@ -89,13 +91,15 @@ void diagnose(const std::vector<SettingEvidence>& table, ProbeVerdict& v) {
     flagged += e.bursts_ending_flagged;
     if (share(e.bursts_ending_flagged, e.bursts) >= 0.9) ++settings_all_flagged;
   }
-  if (!any_frames && settings_heard > 0 && settings_all_flagged == settings_heard) {
+  const std::size_t settings_read_clean = settings_heard - settings_all_flagged;
+  if (!any_frames && settings_heard > 0 && settings_read_clean <= settings_heard / 10 &&
+      share(flagged, bursts) >= 0.8) {
     v.inverted = true;
     v.diagnoses.push_back(fmt::format(
-        "inverted line: swap A and B ({} of {} bursts end in a framing error or break at "
-        "every one of {} settings, as a pair that idles low gives; no setting gives a "
-        "CRC-valid frame)",
-        flagged, bursts, settings_heard));
+        "inverted line: swap A and B ({} of {} bursts end in a framing error or break; {} "
+        "of {} settings end nearly every burst so, as a pair that idles low gives; no "
+        "setting gives a CRC-valid frame)",
+        flagged, bursts, settings_all_flagged, settings_heard));
   }
   if (v.winner) {
     const auto& w = table[*v.winner];

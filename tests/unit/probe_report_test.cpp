@@ -185,6 +185,21 @@ TEST(ProbeReport, BurstsEndingInErrorsAtEverySettingAreASwappedPair) {
   EXPECT_NE(probe_json(table, v).find("\"inverted\":true"), std::string::npos);
 }
 
+TEST(ProbeReport, OneSettingInTenReadingASwappedPairCleanStillCallsItSwapped) {
+  // A full probe hears dozens of settings; now and then one of them aligns on the inverted
+  // bits so that its bursts end on a valid stop bit. That one must not hide the pattern.
+  std::vector<SettingEvidence> table;
+  for (const std::uint32_t baud :
+       {1200U, 2400U, 4800U, 9600U, 14400U, 19200U, 38400U, 57600U, 76800U, 115200U}) {
+    table.push_back(garbage(LineSettings{baud, Parity::kEven, 1}, 20, 20));
+  }
+  table.push_back(garbage(LineSettings{4800, Parity::kNone, 2}, 20, 0));
+  EXPECT_TRUE(judge_probe(table, false).inverted);
+  // Two such settings among eleven are too many: that is no longer one chance alignment.
+  table.push_back(garbage(LineSettings{9600, Parity::kNone, 2}, 20, 0));
+  EXPECT_FALSE(judge_probe(table, false).inverted);
+}
+
 TEST(ProbeReport, AStraightLineAtWrongSettingsIsNotCalledSwapped) {
   // Some settings end every burst in an error, one does not: not the swapped pattern.
   const std::vector<SettingEvidence> table = {

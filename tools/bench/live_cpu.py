@@ -22,6 +22,7 @@ import tty
 # tools/pylib, found from this file: any working directory, no install.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
 from modbus_crc import with_crc  # noqa: E402  (after the path line)
+from proc_usage import cpu_seconds  # noqa: E402
 
 
 def frames():
@@ -33,12 +34,6 @@ def frames():
         cycle.append(with_crc(request))
         cycle.append(with_crc(answer))
     return cycle
-
-
-def cpu_seconds(pid):
-    with open(f"/proc/{pid}/stat") as f:
-        fields = f.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def main():

@@ -27,6 +27,7 @@ import tty
 # tools/pylib (check_support), found from this file: any working directory, no install.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
 from check_support import fail  # noqa: E402  (after the path line)
+from proc_usage import cpu_seconds, open_files, rss_kb  # noqa: E402
 
 RSS_MARGIN = 1.10
 FD_MARGIN = 2
@@ -93,13 +94,7 @@ class Player(threading.Thread):
 
 
 def sample(pid):
-    with open(f"/proc/{pid}/status") as f:
-        rss_kb = next(int(line.split()[1]) for line in f if line.startswith("VmRSS:"))
-    fds = len(os.listdir(f"/proc/{pid}/fd"))
-    with open(f"/proc/{pid}/stat") as f:
-        fields = f.read().rsplit(")", 1)[1].split()
-    ticks = int(fields[11]) + int(fields[12])  # utime + stime
-    return rss_kb, fds, ticks / os.sysconf("SC_CLK_TCK")
+    return rss_kb(pid), open_files(pid), cpu_seconds(pid)
 
 
 def main():

@@ -1,7 +1,6 @@
 #include "core/json_writer.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -171,14 +170,9 @@ void JsonWriter::u16_be_array(std::span<const std::uint8_t> bytes) {
   *p++ = '[';
   for (std::size_t i = 0; i < count; ++i) {
     if (i > 0) *p++ = ',';
-    unsigned v = (unsigned{bytes[2 * i]} << 8U) | unsigned{bytes[2 * i + 1]};
-    std::array<char, 5> reversed{};
-    std::size_t n = 0;
-    do {
-      reversed[n++] = static_cast<char>('0' + v % 10U);
-      v /= 10U;
-    } while (v != 0);
-    while (n > 0) *p++ = reversed[--n];
+    const fmt::format_int digits((unsigned{bytes[2 * i]} << 8U) | unsigned{bytes[2 * i + 1]});
+    std::memcpy(p, digits.data(), digits.size());
+    p += digits.size();
   }
   *p++ = ']';
   out_.resize(static_cast<std::size_t>(p - out_.data()));

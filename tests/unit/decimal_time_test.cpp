@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -107,6 +108,44 @@ TEST(DecimalTime, PlainSecondsWordMatchesTheWordParsedWhole) {
     EXPECT_EQ(word.ns, whole.ns) << c.line;
     EXPECT_EQ(word.decimals, whole.decimals) << c.line;
   }
+}
+
+// The plain-word scan reads digits eight at a time; this compares it, on random lines of
+// digits, points and separators, with the rule written one character at a time, and its
+// values with the general parser's (reached through an exponent, which the scan refuses).
+TEST(DecimalTime, PlainSecondsWordAgreesWithACharacterByCharacterReading) {
+  const auto expected_length = [](std::string_view line) -> std::size_t {
+    std::size_t i = 0;
+    while (i < line.size() && line[i] >= '0' && line[i] <= '9') ++i;
+    const std::size_t whole = i;
+    std::size_t fraction = 0;
+    if (i < line.size() && line[i] == '.') {
+      ++i;
+      while (i < line.size() && line[i] >= '0' && line[i] <= '9') ++i, ++fraction;
+    }
+    if (whole > 10 || fraction > 9 || whole + fraction == 0) return 0;
+    if (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '#') return 0;
+    // Ten whole digits may pass int64 ns; the general parser decides those.
+    const ParsedTime t = parse_decimal_seconds(std::string(line.substr(0, i)) + "e0", true);
+    return t.ok() ? i : 0;
+  };
+  std::mt19937 random(7);
+  const std::string_view alphabet = "0123456789012345678901234567890123456789.. x#:";
+  std::size_t plain = 0;
+  for (int n = 0; n < 200000; ++n) {
+    std::string line(random() % 28, ' ');
+    for (char& c : line) c = alphabet[random() % alphabet.size()];
+    ParsedTime word;
+    const std::size_t length = parse_plain_seconds_word(line, word);
+    ASSERT_EQ(length, expected_length(line)) << line;
+    if (length == 0) continue;
+    ++plain;
+    const ParsedTime reference =
+        parse_decimal_seconds(line.substr(0, length) + "e0", /*allow_exponent=*/true);
+    ASSERT_EQ(word.ns, reference.ns) << line;
+    ASSERT_EQ(word.decimals, reference.decimals) << line;
+  }
+  EXPECT_GT(plain, 10000U);  // the lines exercised the scan, not only its refusals
 }
 
 TEST(DecimalTime, SyntaxErrors) {

@@ -33,10 +33,12 @@ struct CrcScan {
   std::uint16_t scanned = 0;       // bytes the CRC covers so far
   std::uint16_t crc = kCrcInit;    // CRC of those bytes
   bool ended_at_silence = false;   // a silence follows byte `scanned`: the scan is complete
+  bool found_zero = false;         // some bit of zero_lengths is set
   std::array<std::uint64_t, kWords> zero_lengths{};  // bit L: CRC is 0 after L bytes
 
   void note_zero(std::size_t length) {
     zero_lengths[length / 64] |= std::uint64_t{1} << (length % 64);
+    found_zero = true;
   }
 
   // Calls f(length) for each zero length in ascending order until f returns true;

@@ -36,12 +36,14 @@ Framer::Framer(const FramerConfig& config, RecordSink& out)
 }
 
 void Framer::expect_response_from(std::uint8_t slave, std::uint8_t function) {
+  new_epoch();
   expect_response_ = true;
   expected_slave_ = slave;
   expected_function_ = function;
 }
 
 void Framer::expect_request() {
+  new_epoch();
   expect_response_ = false;
 }
 
@@ -206,7 +208,7 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
   if (!scan.ended_at_silence && scan.scanned < limit) extend_crc_scan(scan, pos, limit);
   // Where the CRC holds, a frame ends if a silence or another frame follows.
   std::size_t found = 0;
-  const bool decided = scan.any_zero_length([&](std::size_t len) {
+  const bool decided = scan.found_zero && scan.any_zero_length([&](std::size_t len) {
     const std::size_t next = pos + len;
     if (next == buffered()) {
       if (at_end) {
@@ -229,11 +231,13 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
   return 0;
 }
 
-std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_depth,
-                                     bool* pending) const {
+std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_depth, bool* pending,
+                                     SearchNotes* notes) const {
   const std::size_t avail = buffered() - pos;
+  const std::uint64_t start = consumed_ + pos;
   if (avail < kMinAdu) {
     if (!at_end) *pending = true;
+    if (notes != nullptr) notes->until = std::min<std::uint64_t>(notes->until, start + kMinAdu);
     return 0;
   }
   const std::span<const std::uint8_t> view(bytes_.data() + begin_ + pos, avail);
@@ -247,6 +251,7 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_d
       case ShapeStatus::kLength:
         if (shape.value > avail) {
           if (!at_end) *pending = true;
+          if (notes != nullptr) notes->until = std::min(notes->until, start + shape.value);
           // The awaited answer still coming: a shorter reading as a request may only be
           // its first bytes (a CRC ending in 00 leaves the frame without its last byte
           // CRC-valid too), so wait for the answer's length before taking it.
@@ -257,12 +262,14 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_d
         break;
       case ShapeStatus::kNeedMore:
         if (!at_end) *pending = true;
+        if (notes != nullptr) notes->next_byte_matters = true;
         break;
       case ShapeStatus::kUnpredictable:
         if (generic_depth > 0 && !tried_generic) {
           tried_generic = true;
           const std::size_t len = generic_crc_length(pos, at_end, generic_depth, pending);
           if (len > 0) return len;
+          if (notes != nullptr) note_crc_scan(pos, *notes);
         }
         break;
       case ShapeStatus::kImpossible: break;
@@ -274,19 +281,58 @@ std::size_t Framer::confirmed_length(std::size_t pos, bool at_end, int generic_d
     bool more_may_confirm = false;
     const std::size_t length = generic_crc_length(pos, at_end, generic_depth, &more_may_confirm);
     if (more_may_confirm) answer_may_change_ = true;
+    if (length == 0 && notes != nullptr) note_crc_scan(pos, *notes);
     return length;
   }
   return 0;
 }
 
+// The CRC search from `pos` after a search at full depth found no frame there: one that
+// found CRC zeros waits on what follows them, which any byte may change; one that found
+// none changes only at a zero, a silence, or the longest frame.
+void Framer::note_crc_scan(std::size_t pos, SearchNotes& notes) const {
+  const std::uint64_t start = consumed_ + pos;
+  const CrcScan& scan = crc_scans_.at(start, resolution_);
+  if (scan.found_zero) {
+    notes.next_byte_matters = true;
+    return;
+  }
+  notes.watch_crc_scan = true;
+  notes.until = std::min<std::uint64_t>(notes.until, start + kMaxAdu);
+}
+
+// Whether the CRC search from `pos`, extended over the bytes that came since, still found
+// no zero and no silence (as note_crc_scan() required).
+bool Framer::crc_scan_still_quiet(std::size_t pos) const {
+  CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
+  const std::size_t limit = std::min(buffered() - pos, kMaxAdu);
+  if (!scan.ended_at_silence && scan.scanned < limit) extend_crc_scan(scan, pos, limit);
+  return !scan.ended_at_silence && !scan.found_zero;
+}
+
 std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending) {
-  const std::size_t slot = (consumed_ + pos) % kWindow;
+  const std::uint64_t start = consumed_ + pos;
+  const std::size_t slot = start % kWindow;
   if (settled_.test(slot)) return 0;
+  if (!at_end) {
+    const QuietStart* quiet = quiet_starts_.find(start, epoch_, consumed_ + buffered());
+    if (quiet != nullptr && (!quiet->watch_crc_scan || crc_scan_still_quiet(pos))) {
+      *pending = quiet->pending;
+      answer_may_change_ = quiet->may_change;
+      return 0;
+    }
+  }
   answer_may_change_ = false;
-  const std::size_t length = confirmed_length(pos, at_end, kGenericDepth, pending);
+  SearchNotes notes;
+  const std::size_t length = confirmed_length(pos, at_end, kGenericDepth, pending, &notes);
   // Only a search that waited for nothing is final: at the end of input, too few bytes
   // are a "no" that more bytes could turn into a "yes".
   if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_.set(slot);
+  if (length == 0 && (*pending || answer_may_change_) && !at_end && !notes.next_byte_matters &&
+      config_.remember_quiet_starts) {
+    quiet_starts_.remember(
+        QuietStart{start, epoch_, notes.until, notes.watch_crc_scan, *pending, answer_may_change_});
+  }
   return length;
 }
 
@@ -475,6 +521,7 @@ void Framer::learn_from(std::size_t length) {
     resolution_ = b.gap_before;
     silence_search_from_ = 0;  // silences are judged anew with it
     settled_.reset();
+    new_epoch();
   }
 }
 

@@ -23,6 +23,7 @@
 
 #include "core/chunk.hpp"
 #include "framing/crc_scan_cache.hpp"
+#include "framing/quiet_starts.hpp"
 #include "framing/record.hpp"
 #include "serial/line_settings.hpp"
 
@@ -38,6 +39,9 @@ struct FramerConfig {
   // Whether the resolution may be raised from what the chunks show (off when the user
   // fixed it, and for exact per-byte timestamps).
   bool learn_resolution = true;
+  // Whether searches that said "not yet" are remembered (see quiet_starts.hpp). Only a
+  // test turns it off, to check that remembering changes no record.
+  bool remember_quiet_starts = true;
 };
 
 // How long the framer waits, past t3.5, for more bytes of a frame that is not complete
@@ -110,8 +114,12 @@ class Framer {
   // the bytes buffered now). `pending` is set when a predicted length needs more bytes.
   // `generic_depth` > 0 also accepts frames with no length rule, confirmed by their CRC and
   // by what follows them (a silence, or a further confirmed frame, up to that depth).
-  std::size_t confirmed_length(std::size_t pos, bool at_end, int generic_depth,
-                               bool* pending) const;
+  // `notes`, at full depth only: what alone can change a "not yet" (see quiet_starts.hpp).
+  std::size_t confirmed_length(std::size_t pos, bool at_end, int generic_depth, bool* pending,
+                               SearchNotes* notes = nullptr) const;
+  void note_crc_scan(std::size_t pos, SearchNotes& notes) const;
+  bool crc_scan_still_quiet(std::size_t pos) const;
+  void new_epoch() { ++epoch_; }
   // confirmed_length() at full depth, skipping positions already known to be no start.
   std::size_t settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending);
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
@@ -157,6 +165,8 @@ class Framer {
   std::bitset<kWindow> settled_;
   // Set during a search when a frame it depends on may still be completed by more bytes.
   mutable bool answer_may_change_ = false;
+  QuietStarts quiet_starts_;
+  std::uint64_t epoch_ = 1;  // what the bus awaits and the resolution (see quiet_starts.hpp)
 
   Nanos last_byte_end_ = kUnknownTime;  // end of the newest byte pushed
   Nanos last_record_end_ = kUnknownTime;

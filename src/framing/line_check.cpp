@@ -121,7 +121,11 @@ void LineCheck::add(const Chunk& chunk) {
     // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
     const Nanos top = kNanosPerSecond * 4;
     const Nanos spacing = std::min(t - last_, top);
-    const std::size_t b = bucket_of(spacing);
+    if (spacing != memo_spacing_) {
+      memo_spacing_ = spacing;
+      memo_bucket_ = bucket_of(spacing);
+    }
+    const std::size_t b = memo_bucket_;
     ++counts_[b];
     sums_[b] += static_cast<std::uint64_t>(spacing);
     ++spacings_;

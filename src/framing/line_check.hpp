@@ -69,6 +69,10 @@ class LineCheck {
   std::uint64_t chunks_ = 0;
   std::uint64_t multi_byte_chunks_ = 0;
   Nanos last_ = kUnknownTime;  // time of the previous single-byte chunk
+  // The last spacing's bucket: back-to-back bytes repeat one spacing, and bucket_of() takes
+  // a logarithm.
+  Nanos memo_spacing_ = -1;
+  std::size_t memo_bucket_ = 0;
 };
 
 // The standard baud rate within 3% of `rate`, else nullopt.

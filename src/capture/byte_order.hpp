@@ -52,22 +52,26 @@ inline std::uint64_t load_u64(std::span<const std::uint8_t> b, std::size_t at, B
   return load<std::uint64_t>(b.data() + at, o);
 }
 
-// Appends `value` to `out` in `order`.
+// Writes `value` as sizeof(T) bytes at `p` in `order`: one byte swap at most and one store,
+// the mirror of load().
 template <typename T>
-void append(std::vector<std::uint8_t>& out, T value, ByteOrder order) {
-  for (std::size_t i = 0; i < sizeof(T); ++i) {
-    const std::size_t shift = order == ByteOrder::kBig ? 8 * (sizeof(T) - 1 - i) : 8 * i;
-    out.push_back(static_cast<std::uint8_t>((static_cast<std::uint64_t>(value) >> shift) & 0xFFU));
-  }
+void put(std::uint8_t* p, T value, ByteOrder order) {
+  const T ordered = order == host_byte_order() ? value : swap_bytes(value);
+  std::memcpy(p, &ordered, sizeof(T));
 }
 
 // Overwrites sizeof(T) bytes of `out` at `at` (for lengths known only after the body).
 template <typename T>
 void store(std::vector<std::uint8_t>& out, std::size_t at, T value, ByteOrder order) {
-  for (std::size_t i = 0; i < sizeof(T); ++i) {
-    const std::size_t shift = order == ByteOrder::kBig ? 8 * (sizeof(T) - 1 - i) : 8 * i;
-    out[at + i] = static_cast<std::uint8_t>((static_cast<std::uint64_t>(value) >> shift) & 0xFFU);
-  }
+  put(out.data() + at, value, order);
+}
+
+// Appends `value` to `out` in `order`. The writers call it for every field of every block.
+template <typename T>
+void append(std::vector<std::uint8_t>& out, T value, ByteOrder order) {
+  const std::size_t at = out.size();
+  out.resize(at + sizeof(T));
+  put(out.data() + at, value, order);
 }
 
 }  // namespace rtu

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <stdexcept>
 
 #include "capture/pcap_format.hpp"
@@ -67,8 +68,8 @@ void PcapngWriter::write_packet(std::uint32_t interface_id, Nanos t,
   while (block_.size() % 4 != 0) block_.push_back(0);
   if (!meta.comment.empty()) add_option(pcap::kOptComment, meta.comment);
   if (meta.flags != 0) {
-    std::vector<std::uint8_t> flags;
-    append<std::uint32_t>(flags, meta.flags, order_);
+    std::array<std::uint8_t, 4> flags{};
+    put(flags.data(), meta.flags, order_);
     add_option(pcap::kEpbFlags, flags);
   }
   finish_block();

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <array>
+
 #include "capture/byte_order.hpp"
 
 namespace rtu {
@@ -22,8 +24,8 @@ void add_text(std::vector<std::uint8_t>& out, std::uint16_t tag, std::string_vie
 }
 
 void add_u32(std::vector<std::uint8_t>& out, std::uint16_t tag, std::uint32_t value) {
-  std::vector<std::uint8_t> bytes;
-  append<std::uint32_t>(bytes, value, ByteOrder::kBig);
+  std::array<std::uint8_t, 4> bytes{};
+  put(bytes.data(), value, ByteOrder::kBig);
   add_tag(out, tag, bytes, 4);
 }
 

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <array>
+#include <cstring>
 #include <stdexcept>
 
 #include "capture/pcap_format.hpp"
@@ -57,22 +57,52 @@ void PcapngWriter::write_packet(std::uint32_t interface_id, Nanos t,
   const auto ticks =
       static_cast<std::uint64_t>(t / pow10_i64(9U - interface_digits_[interface_id]));
   const auto captured = static_cast<std::uint32_t>(data.size());
-  begin_block(pcap::kBlockEnhancedPacket);
-  append<std::uint32_t>(block_, interface_id, order_);
-  append<std::uint32_t>(block_, static_cast<std::uint32_t>(ticks >> 32U), order_);
-  append<std::uint32_t>(block_, static_cast<std::uint32_t>(ticks & 0xFFFFFFFFU), order_);
-  append<std::uint32_t>(block_, captured, order_);
-  append<std::uint32_t>(block_, meta.original_length > captured ? meta.original_length : captured,
-                        order_);
-  block_.insert(block_.end(), data.begin(), data.end());
-  while (block_.size() % 4 != 0) block_.push_back(0);
-  if (!meta.comment.empty()) add_option(pcap::kOptComment, meta.comment);
-  if (meta.flags != 0) {
-    std::array<std::uint8_t, 4> flags{};
-    put(flags.data(), meta.flags, order_);
-    add_option(pcap::kEpbFlags, flags);
+  // A comment is cut where add_option(code, text) cuts one: at most 0xFFFC bytes.
+  const std::string_view comment = meta.comment.substr(0, 0xFFFC);
+  // Every frame of an export and every read of a recording comes here: the block is sized
+  // once and written in place, the same bytes begin_block/add_option/finish_block give.
+  const auto padded = [](std::size_t n) { return (n + 3U) & ~std::size_t{3}; };
+  const std::size_t comment_size = comment.empty() ? 0 : 4 + padded(comment.size());
+  const std::size_t flags_size = meta.flags != 0 ? 8 : 0;
+  const std::size_t end_of_options = comment_size + flags_size > 0 ? 4 : 0;
+  const std::size_t total =
+      8 + 20 + padded(data.size()) + comment_size + flags_size + end_of_options + 4;
+  block_.resize(total);
+  std::uint8_t* p = block_.data();
+  put<std::uint32_t>(p, pcap::kBlockEnhancedPacket, order_);
+  put<std::uint32_t>(p + 4, static_cast<std::uint32_t>(total), order_);
+  put<std::uint32_t>(p + 8, interface_id, order_);
+  put<std::uint32_t>(p + 12, static_cast<std::uint32_t>(ticks >> 32U), order_);
+  put<std::uint32_t>(p + 16, static_cast<std::uint32_t>(ticks & 0xFFFFFFFFU), order_);
+  put<std::uint32_t>(p + 20, captured, order_);
+  put<std::uint32_t>(p + 24, meta.original_length > captured ? meta.original_length : captured,
+                     order_);
+  p += 28;
+  const auto copy_padded = [&](std::span<const std::uint8_t> bytes) {
+    if (!bytes.empty()) std::memcpy(p, bytes.data(), bytes.size());
+    std::memset(p + bytes.size(), 0, padded(bytes.size()) - bytes.size());
+    p += padded(bytes.size());
+  };
+  copy_padded(data);
+  if (comment_size != 0) {
+    put<std::uint16_t>(p, pcap::kOptComment, order_);
+    put<std::uint16_t>(p + 2, static_cast<std::uint16_t>(comment.size()), order_);
+    p += 4;
+    copy_padded(std::span(reinterpret_cast<const std::uint8_t*>(comment.data()), comment.size()));
   }
-  finish_block();
+  if (flags_size != 0) {
+    put<std::uint16_t>(p, pcap::kEpbFlags, order_);
+    put<std::uint16_t>(p + 2, 4, order_);
+    put<std::uint32_t>(p + 4, meta.flags, order_);
+    p += 8;
+  }
+  if (end_of_options != 0) {
+    put<std::uint16_t>(p, pcap::kOptEndOfOpt, order_);
+    put<std::uint16_t>(p + 2, 0, order_);
+    p += 4;
+  }
+  put<std::uint32_t>(p, static_cast<std::uint32_t>(total), order_);
+  output_->write(block_);
   ++packets_;
 }
 

@@ -3,31 +3,48 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cstring>
 
 #include "capture/byte_order.hpp"
 
 namespace rtu {
 namespace {
 
-void add_tag(std::vector<std::uint8_t>& out, std::uint16_t tag, std::span<const std::uint8_t> value,
-             std::size_t padded_length) {
-  append<std::uint16_t>(out, tag, ByteOrder::kBig);
-  append<std::uint16_t>(out, static_cast<std::uint16_t>(padded_length), ByteOrder::kBig);
-  out.insert(out.end(), value.begin(), value.end());
-  out.resize(out.size() + (padded_length - value.size()), 0);
+// Strings carry at least one NUL, then pad to a multiple of 4 (as Wireshark's exporter).
+std::size_t padded_text(std::string_view text) {
+  return (text.size() + 4U) & ~std::size_t{3};
 }
 
-void add_text(std::vector<std::uint8_t>& out, std::uint16_t tag, std::string_view text) {
-  const std::span bytes(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
-  // At least one NUL, then up to a multiple of 4 (Wireshark's exporter does the same).
-  add_tag(out, tag, bytes, (text.size() + 4U) & ~std::size_t{3});
-}
+// Writes tags one after the other into a record sized beforehand: every export writes one
+// record per frame, and its length is known before the first byte.
+class TagWriter {
+ public:
+  explicit TagWriter(std::uint8_t* at) : at_(at) {}
 
-void add_u32(std::vector<std::uint8_t>& out, std::uint16_t tag, std::uint32_t value) {
-  std::array<std::uint8_t, 4> bytes{};
-  put(bytes.data(), value, ByteOrder::kBig);
-  add_tag(out, tag, bytes, 4);
-}
+  void tag(std::uint16_t tag, std::span<const std::uint8_t> value, std::size_t padded_length) {
+    put<std::uint16_t>(at_, tag, ByteOrder::kBig);
+    put<std::uint16_t>(at_ + 2, static_cast<std::uint16_t>(padded_length), ByteOrder::kBig);
+    if (!value.empty()) std::memcpy(at_ + 4, value.data(), value.size());
+    std::memset(at_ + 4 + value.size(), 0, padded_length - value.size());
+    at_ += 4 + padded_length;
+  }
+  void text(std::uint16_t tag_id, std::string_view text) {
+    tag(tag_id, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()),
+        padded_text(text));
+  }
+  void u32(std::uint16_t tag_id, std::uint32_t value) {
+    std::array<std::uint8_t, 4> bytes{};
+    put(bytes.data(), value, ByteOrder::kBig);
+    tag(tag_id, bytes, 4);
+  }
+  void bytes(std::span<const std::uint8_t> data) {
+    if (!data.empty()) std::memcpy(at_, data.data(), data.size());
+    at_ += data.size();
+  }
+
+ private:
+  std::uint8_t* at_;
+};
 
 std::string_view as_text(std::span<const std::uint8_t> value) {
   std::string_view text(reinterpret_cast<const char*>(value.data()), value.size());
@@ -39,22 +56,21 @@ std::string_view as_text(std::span<const std::uint8_t> value) {
 
 void build_upper_pdu(std::span<const std::uint8_t> payload, const UpperPduBuild& options,
                      std::vector<std::uint8_t>& out) {
-  out.clear();
-  add_text(out, upper_pdu::kTagDissectorName, options.dissector);
-  if (options.direction != PduDirection::kUnknown) {
+  const bool ports = options.direction != PduDirection::kUnknown;
+  const bool column = !options.protocol_column.empty();
+  out.resize(4 + padded_text(options.dissector) + (ports ? 3 * 8 : 0) +
+             (column ? 4 + padded_text(options.protocol_column) : 0) + 4 + payload.size());
+  TagWriter w(out.data());
+  w.text(upper_pdu::kTagDissectorName, options.dissector);
+  if (ports) {
     const bool request = options.direction == PduDirection::kRequest;
-    add_u32(out, upper_pdu::kTagPortType, upper_pdu::kPortTypeTcp);
-    add_u32(out, upper_pdu::kTagSourcePort,
-            request ? upper_pdu::kMasterPort : upper_pdu::kSlavePort);
-    add_u32(out, upper_pdu::kTagDestinationPort,
-            request ? upper_pdu::kSlavePort : upper_pdu::kMasterPort);
+    w.u32(upper_pdu::kTagPortType, upper_pdu::kPortTypeTcp);
+    w.u32(upper_pdu::kTagSourcePort, request ? upper_pdu::kMasterPort : upper_pdu::kSlavePort);
+    w.u32(upper_pdu::kTagDestinationPort, request ? upper_pdu::kSlavePort : upper_pdu::kMasterPort);
   }
-  if (!options.protocol_column.empty()) {
-    add_text(out, upper_pdu::kTagProtocolColumn, options.protocol_column);
-  }
-  append<std::uint16_t>(out, upper_pdu::kTagEndOfOptions, ByteOrder::kBig);
-  append<std::uint16_t>(out, 0, ByteOrder::kBig);
-  out.insert(out.end(), payload.begin(), payload.end());
+  if (column) w.text(upper_pdu::kTagProtocolColumn, options.protocol_column);
+  w.tag(upper_pdu::kTagEndOfOptions, {}, 0);
+  w.bytes(payload);
 }
 
 PduDirection UpperPdu::direction() const {

@@ -132,9 +132,13 @@ void Framer::decide(bool at_end) {
 }
 
 bool Framer::boundary_at(std::size_t pos) const {
-  if (pos >= buffered()) return false;
-  const Nanos gap = info_at(pos).gap_before;
-  return gap != kUnknownTime && gap - resolution_ >= t3_5_;
+  return pos < buffered() && silence_before(info_at(pos).gap_before);
+}
+
+// At least t3.5 of silence beyond what the resolution may hide. The resolution is on the
+// right so that an unknown gap (the smallest Nanos) fails the test without overflow.
+bool Framer::silence_before(Nanos gap) const {
+  return gap >= t3_5_ + resolution_;
 }
 
 bool Framer::contiguous_at(std::size_t pos) const {
@@ -176,18 +180,19 @@ std::size_t Framer::predicted_length(std::size_t pos) const {
   return 0;
 }
 
-// On traffic of unknown function codes with no silence the timestamps show, this loop is
-// where the framer spends its time (every byte may start a frame), so it works on locals
-// and reads each byte's silence with one comparison: the same test as boundary_at(), with
-// the resolution moved to the other side (an unknown gap is the smallest Nanos and fails it).
-void Framer::extend_crc_scan(CrcScan& scan, std::size_t pos, std::size_t limit) const {
+// The CRC search from `pos`, extended over the bytes that came since it was last looked
+// at. On traffic of unknown function codes with no silence the timestamps show, its loop
+// is where the framer spends its time (every byte may start a frame), so it works on locals.
+CrcScan& Framer::extended_scan(std::size_t pos) const {
+  CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
+  const std::size_t limit = std::min(buffered() - pos, kMaxAdu);
+  if (scan.ended_at_silence || scan.scanned >= limit) return scan;
   const std::uint8_t* const bytes = bytes_.data() + begin_ + pos;
   const ByteInfo* const info = info_.data() + begin_ + pos;
-  const Nanos silence = t3_5_ + resolution_;
   std::size_t scanned = scan.scanned;
   std::uint16_t crc = scan.crc;
   while (scanned < limit) {
-    if (scanned > 0 && info[scanned].gap_before >= silence) {
+    if (scanned > 0 && silence_before(info[scanned].gap_before)) {
       scan.ended_at_silence = true;  // a frame ends at a silence
       break;
     }
@@ -197,15 +202,13 @@ void Framer::extend_crc_scan(CrcScan& scan, std::size_t pos, std::size_t limit) 
   }
   scan.crc = crc;
   scan.scanned = static_cast<std::uint16_t>(scanned);
+  return scan;
 }
 
 std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
                                        bool* pending) const {
   const std::size_t avail = buffered() - pos;
-  const std::size_t limit = std::min(avail, kMaxAdu);
-  // Extend the scan from `pos` over the bytes that came since it was last looked at.
-  CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
-  if (!scan.ended_at_silence && scan.scanned < limit) extend_crc_scan(scan, pos, limit);
+  const CrcScan& scan = extended_scan(pos);
   // Where the CRC holds, a frame ends if a silence or another frame follows.
   std::size_t found = 0;
   const bool decided = scan.found_zero && scan.any_zero_length([&](std::size_t len) {
@@ -304,9 +307,7 @@ void Framer::note_crc_scan(std::size_t pos, SearchNotes& notes) const {
 // Whether the CRC search from `pos`, extended over the bytes that came since, still found
 // no zero and no silence (as note_crc_scan() required).
 bool Framer::crc_scan_still_quiet(std::size_t pos) const {
-  CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
-  const std::size_t limit = std::min(buffered() - pos, kMaxAdu);
-  if (!scan.ended_at_silence && scan.scanned < limit) extend_crc_scan(scan, pos, limit);
+  const CrcScan& scan = extended_scan(pos);
   return !scan.ended_at_silence && !scan.found_zero;
 }
 

@@ -125,7 +125,8 @@ class Framer {
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
-  void extend_crc_scan(CrcScan& scan, std::size_t pos, std::size_t limit) const;
+  bool silence_before(Nanos gap) const;
+  CrcScan& extended_scan(std::size_t pos) const;
   bool contiguous_at(std::size_t pos) const;
   bool is_turnaround_glitch(const Record& noise) const;
   bool plausible_start(std::size_t pos) const;

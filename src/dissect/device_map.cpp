@@ -34,6 +34,32 @@ bool Space::serves(std::uint8_t function) const {
 }
 
 const Point* Space::point_at(std::uint32_t addr) const {
+  if (indexed_points_ != points.size() || indexed_points_ == 0) return search_point_at(addr);
+  const std::uint32_t rel = addr - index_base_;  // below the base wraps to beyond the table
+  if (rel >= slot_by_addr_.size()) return nullptr;
+  const std::uint16_t slot = slot_by_addr_[rel];
+  return slot == 0 ? nullptr : &points[slot - 1U];
+}
+
+void Space::index_points() {
+  slot_by_addr_.clear();
+  indexed_points_ = 0;
+  if (points.empty() || points.size() >= UINT16_MAX) return;
+  const std::uint32_t first = points.front().addr;
+  const Point& last = points.back();
+  const std::uint64_t span = std::uint64_t{last.addr} + last.units(addressing) - first;
+  if (span > kMaxIndexedSpan) return;
+  slot_by_addr_.assign(static_cast<std::size_t>(span), 0);
+  index_base_ = first;
+  // Filled from the search itself, so the table answers exactly as it does.
+  for (std::uint32_t rel = 0; rel < slot_by_addr_.size(); ++rel) {
+    const Point* p = search_point_at(first + rel);
+    if (p != nullptr) slot_by_addr_[rel] = static_cast<std::uint16_t>(p - points.data() + 1);
+  }
+  indexed_points_ = points.size();
+}
+
+const Point* Space::search_point_at(std::uint32_t addr) const {
   // Points are sorted and disjoint: the candidate is the last one starting at or before addr.
   auto it = std::upper_bound(points.begin(), points.end(), addr,
                              [](std::uint32_t a, const Point& p) { return a < p.addr; });

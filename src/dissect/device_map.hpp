@@ -91,6 +91,21 @@ struct Space {
   [[nodiscard]] const Point* point_at(std::uint32_t addr) const;
   // The first point that starts at or after `addr`, or null.
   [[nodiscard]] const Point* point_from(std::uint32_t addr) const;
+
+  // Builds the address table point_at() answers from: every value a frame carries is looked
+  // up there, and a search through the (large) points costs more than decoding the value.
+  // Call once `points` is final; until then, and whenever `points` has changed size since,
+  // point_at() searches instead.
+  void index_points();
+
+ private:
+  // Too wide a span of addresses (a map with points far apart) keeps the search.
+  static constexpr std::uint32_t kMaxIndexedSpan = 1U << 17U;
+  [[nodiscard]] const Point* search_point_at(std::uint32_t addr) const;
+  // slot_by_addr_[a - index_base_]: 1 + the index in `points` of the point covering a, or 0.
+  std::vector<std::uint16_t> slot_by_addr_;
+  std::uint32_t index_base_ = 0;
+  std::size_t indexed_points_ = 0;  // points.size() when the table was built
 };
 
 // A value learned from the traffic (e.g. a PT ratio) that other points scale by.

@@ -374,6 +374,7 @@ class Loader {
       }
     }
     check_overlaps(space);
+    space.index_points();
     map_.spaces.push_back(std::move(space));
   }
 

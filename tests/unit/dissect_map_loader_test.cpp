@@ -324,5 +324,46 @@ TEST(BusFile, BadSlaveAddressSaysWhere) {
   }
 }
 
+// point_at() answers from an address table built at load: for every address of every space
+// of the bundled maps (and beyond their ends) it names the one point whose extent, spare
+// registers included, holds the address, as a scan of the points by that definition does.
+TEST(MapLoader, PointAtAgreesWithAScanOfThePointsOnEveryBundledMap) {
+  MapLibrary library;
+  ASSERT_TRUE(library.load_dir(RTUSCOPE_SOURCE_DIR "/dissectors").empty());
+  ASSERT_FALSE(library.maps().empty());
+  std::size_t hits = 0;
+  for (const auto& map : library.maps()) {
+    for (const Space& space : map->spaces) {
+      ASSERT_FALSE(space.points.empty());
+      const std::uint32_t end =
+          space.points.back().addr + space.points.back().units(space.addressing);
+      for (std::uint32_t a = 0; a < end + 64; ++a) {
+        const Point* scanned = nullptr;
+        for (const Point& p : space.points) {
+          if (a >= p.addr && a < p.addr + p.units(space.addressing)) scanned = &p;
+        }
+        ASSERT_EQ(space.point_at(a), scanned) << map->model << " " << space.id << " " << a;
+        if (scanned != nullptr) ++hits;
+      }
+      EXPECT_EQ(space.point_at(0xFFFFFFFFU), nullptr);
+    }
+  }
+  EXPECT_GT(hits, 100U);
+}
+
+// A space whose points changed after it was indexed searches them instead of a stale table.
+TEST(MapLoader, PointAtFollowsPointsAddedAfterIndexing) {
+  auto r = load_map_text(kBase, "bad.toml");
+  ASSERT_TRUE(r.ok());
+  Space& space = r.map.spaces[0];
+  EXPECT_EQ(space.point_at(0x10), nullptr);
+  Point extra;
+  extra.addr = 0x10;
+  extra.type = PointType::kU16;
+  space.points.push_back(extra);
+  EXPECT_EQ(space.point_at(0x10), &space.points.back());
+  EXPECT_EQ(space.point_at(0x01), &space.points.front());
+}
+
 }  // namespace
 }  // namespace rtu::dissect

@@ -36,6 +36,54 @@ struct ReportArgs {
   bool quiet = false;
 };
 
+// The statistics of one decoding of a capture, and the device models they name.
+struct Analysis {
+  std::unique_ptr<DeviceSetup> devices;
+  std::unique_ptr<TrafficStats> stats;
+};
+
+// Identifies the slaves no option names (unless asked not to), then decodes the capture into
+// the statistics and the CSV. With `alongside`, `survey` is declared_survey's and the survey
+// runs during the decoding; nullopt when it says the capture must be decoded again.
+std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& capture,
+                                ReplayOptions options, const CaptureSurvey& survey, bool alongside,
+                                std::unique_ptr<DeviceSetup> devices, ProgressLine& progress) {
+  // Slaves no option names are identified from a first look at the capture (a sample, done
+  // in a moment: the line stays where it is meanwhile). One survey serves both passes.
+  if (!args.no_identify) {
+    identify_models(*devices, options, args.identify_frames,
+                    [&](const ReplayOptions& o, RecordSink& sink) {
+                      ReplayOptions silent = o;
+                      silent.on_progress = nullptr;
+                      decode_capture(capture, survey, silent, sink);
+                    });
+  }
+  Analysis analysis{std::move(devices), nullptr};
+  analysis.stats = std::make_unique<TrafficStats>(&analysis.devices->table);
+  RecordFanout sinks;
+  sinks.add(*analysis.stats);
+  std::optional<OutputStream> csv_out;
+  std::optional<PointCsvWriter> csv;
+  if (!args.csv.empty()) {
+    csv_out.emplace(args.csv);
+    csv.emplace(*csv_out);
+    sinks.add(*csv);
+  }
+  dissect::DeviceStage stage(analysis.devices->table, sinks, true);
+  progress.attach(options, "decoding");
+  if (alongside) {
+    const std::optional<CaptureInfo> info = decode_and_survey(capture, survey, options, stage);
+    progress.erase();
+    if (!info) return std::nullopt;
+    analysis.stats->complete_capture(*info);
+  } else {
+    decode_capture(capture, survey, options, stage);
+    progress.erase();
+  }
+  if (csv) csv->flush();
+  return analysis;
+}
+
 void setup_report(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand(
@@ -59,40 +107,26 @@ void setup_report(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     const CaptureOpener capture = capture_opener(capture_inputs(args->files));
     ReplayOptions options = args->line.to_replay_options();
-    const auto devices = args->devices.build_with_maps(options);
+    auto devices = args->devices.build_with_maps(options);
     // The report is written at the end, so only a CSV on standard output competes with the line.
     ProgressLine progress(progress_wanted(args->quiet, args->csv));
-    // One survey serves both decoding passes.
     progress.attach(options, "decoding");
-    const CaptureSurvey survey = survey_capture(capture, options);
-    // Slaves no option names are identified from a first look at the capture (a sample, done
-    // in a moment: the line stays on the survey meanwhile).
-    if (!args->no_identify) {
-      identify_models(*devices, options, args->identify_frames,
-                      [&](const ReplayOptions& o, RecordSink& sink) {
-                        ReplayOptions silent = o;
-                        silent.on_progress = nullptr;
-                        decode_capture(capture, survey, silent, sink);
-                      });
+    // A capture that declares its settings (a live recording) needs no survey pass first:
+    // the report is written at the end, so what only the whole capture shows is learned
+    // alongside the decoding. Not with a CSV, which is written as the decoding goes.
+    std::optional<Analysis> analysis;
+    if (const auto declared =
+            args->csv.empty() ? declared_survey(capture, options) : std::nullopt) {
+      analysis = analyse(*args, capture, options, *declared, true, std::move(devices), progress);
+      if (!analysis) devices = args->devices.build_with_maps(options);
     }
-    TrafficStats stats(&devices->table);
-    RecordFanout sinks;
-    sinks.add(stats);
-    std::optional<OutputStream> csv_out;
-    std::optional<PointCsvWriter> csv;
-    if (!args->csv.empty()) {
-      csv_out.emplace(args->csv);
-      csv.emplace(*csv_out);
-      sinks.add(*csv);
+    if (!analysis) {
+      const CaptureSurvey survey = survey_capture(capture, options);
+      analysis = analyse(*args, capture, options, survey, false, std::move(devices), progress);
     }
-    dissect::DeviceStage stage(devices->table, sinks, true);
-    progress.attach(options, "decoding");
-    decode_capture(capture, survey, options, stage);
-    progress.erase();
-    if (csv) csv->flush();
-    const std::vector<Finding> findings = find_problems(stats);
+    const std::vector<Finding> findings = find_problems(*analysis->stats);
     OutputStream out(args->output);
-    find_format_or_default(report_formats(), args->format).factory(out, stats, findings);
+    find_format_or_default(report_formats(), args->format).factory(out, *analysis->stats, findings);
     exit_code = 0;
   });
 }

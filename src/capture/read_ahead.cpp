@@ -1,6 +1,8 @@
 #include "capture/read_ahead.hpp"
 
 #include <algorithm>
+#include <optional>
+#include <stdexcept>
 #include <utility>
 
 namespace rtu {
@@ -84,13 +86,43 @@ class ReadAhead::Collector final : public CaptureConsumer {
   Batch& batch_;
 };
 
-ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader)
-    : reader_(std::move(reader)), name_(reader_->name()), input_size_(reader_->input_size()) {
+// Hands each item to the consumer alongside, then to the batch.
+class ReadAhead::Tee final : public CaptureConsumer {
+ public:
+  Tee(CaptureConsumer& first, CaptureConsumer& then) : first_(first), then_(then) {}
+  void on_chunk(const Chunk& chunk) override {
+    first_.on_chunk(chunk);
+    then_.on_chunk(chunk);
+  }
+  void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
+    first_.on_frame(adu, t_start, origin);
+    then_.on_frame(adu, t_start, origin);
+  }
+  void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override {
+    first_.on_noise(bytes, t_start, origin);
+    then_.on_noise(bytes, t_start, origin);
+  }
+  void on_end(Nanos t) override {
+    first_.on_end(t);
+    then_.on_end(t);
+  }
+
+ private:
+  CaptureConsumer& first_;
+  CaptureConsumer& then_;
+};
+
+ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside)
+    : reader_(std::move(reader)),
+      alongside_(alongside),
+      name_(reader_->name()),
+      input_size_(reader_->input_size()) {
   for (std::size_t i = 0; i < kBatches; ++i) free_.push_back(std::make_unique<Batch>());
   thread_ = std::thread([this] { run(); });
 }
 
 ReadAhead::~ReadAhead() {
+  if (!thread_.joinable()) return;
   {
     const std::lock_guard lock(mutex_);
     stopping_ = true;
@@ -114,9 +146,12 @@ void ReadAhead::run() {
     if (batch == nullptr) return;
     batch->clear();
     Collector collector(*batch);
+    std::optional<Tee> tee;
+    if (alongside_ != nullptr) tee.emplace(*alongside_, collector);
+    CaptureConsumer& to = tee ? static_cast<CaptureConsumer&>(*tee) : collector;
     try {
       while (!batch->full()) {
-        if (!reader_->read(collector)) {
+        if (!reader_->read(to)) {
           batch->last = true;
           break;
         }
@@ -134,6 +169,14 @@ void ReadAhead::run() {
     changed_.notify_all();
     if (last) return;
   }
+}
+
+const CaptureReader& ReadAhead::source() {
+  if (!ended_) throw std::logic_error("ReadAhead::source() asked before reading ended");
+  // The thread's last act on the reader came before it handed over the last batch; joining
+  // makes that plain.
+  if (thread_.joinable()) thread_.join();
+  return *reader_;
 }
 
 void ReadAhead::deliver(const Item& item, const Batch& batch, CaptureConsumer& to) {

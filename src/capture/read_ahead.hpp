@@ -28,8 +28,11 @@ class ReadAhead final : public CaptureReader {
   static constexpr std::size_t kBatchBytes = 256 * 1024;
 
   // Starts reading `reader` at once. Only read(), name(), bytes_read() and input_size() may
-  // be asked of this object: the reader's other answers belong to the survey pass.
-  explicit ReadAhead(std::unique_ptr<CaptureReader> reader);
+  // be asked of this object: the reader's other answers belong to the survey pass, or to
+  // source() once reading ended. `alongside` (optional, not owned) sees every item as well,
+  // on the reading thread, just before it is batched: a survey that costs the decoding core
+  // nothing. It is the reading thread's until read() has returned false or thrown.
+  explicit ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside = nullptr);
   // Stops the reading thread (reading need not have reached the end) and waits for it.
   ~ReadAhead() override;
   ReadAhead(const ReadAhead&) = delete;
@@ -46,16 +49,24 @@ class ReadAhead final : public CaptureReader {
   [[nodiscard]] std::uint64_t bytes_read() const override { return bytes_read_; }
   [[nodiscard]] std::uint64_t input_size() const override { return input_size_; }
 
+  // True once read() has returned false or thrown: the reading thread is done.
+  [[nodiscard]] bool ended() const { return ended_; }
+  // The reader itself, for what it learned by the end (declarations, capture warnings).
+  // Only once ended(); throws std::logic_error before.
+  [[nodiscard]] const CaptureReader& source();
+
  private:
   struct Item;
   struct Batch;
   class Collector;
+  class Tee;
 
   void run();  // the reading thread
   std::unique_ptr<Batch> next_free();
   void deliver(const Item& item, const Batch& batch, CaptureConsumer& to);
 
   std::unique_ptr<CaptureReader> reader_;
+  CaptureConsumer* alongside_;
   std::string name_;
   std::uint64_t input_size_ = 0;
   std::uint64_t bytes_read_ = 0;

@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <cstdint>
+#include <mutex>
 #include <span>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "capture/capture_paths.hpp"
 #include "capture/open_capture.hpp"
@@ -154,55 +157,57 @@ class PassProgress {
 
 }  // namespace
 
-CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& options) {
-  // Reader warnings are shown once, here.
-  auto first =
-      options.show_warnings ? open(print_warning_to_stderr) : open([](std::string_view) {});
-  Survey survey;
-  PassProgress survey_progress(*first, ReplayProgress::Pass::kSurvey, options);
-  try {
-    while (first->read(survey)) survey_progress.tick();
-  } catch (const InputError&) {
-    // Damaged input: learn from what precedes the damage; pass 2 decodes up to it and
-    // then reports the error.
-  }
-  survey_progress.done();
-  CaptureSurvey result;
-  // Frame records are decoded as they are only when there are no raw reads to re-frame.
-  result.use_chunks = survey.chunks > 0 || !first->holds_frames();
-  const Nanos precision = first->timestamp_precision();
-  const auto declared = first->declared_settings();
-  result.per_byte_exact = first->timing_kind() == TimingKind::kPerByteExact;
+namespace {
 
+// How the decoding pass reads the capture: from the reader's declarations, the options, and
+// (where the capture declares no resolution) the survey's estimate. `use_chunks`: raw reads
+// are re-framed, else frame records are decoded.
+CaptureSurvey decoding_settings(const CaptureReader& reader, bool use_chunks,
+                                const TimingEstimator& estimator, const ReplayOptions& options) {
+  CaptureSurvey result;
+  result.use_chunks = use_chunks;
+  result.per_byte_exact = reader.timing_kind() == TimingKind::kPerByteExact;
+  const Nanos precision = reader.timestamp_precision();
   CaptureInfo& info = result.info;
-  info.source = first->name();
-  for (auto& warning : first->capture_warnings()) {
-    // Not silent: what the file lacks shows as damaged frames, and the user must know why.
-    if (options.show_warnings) print_warning_to_stderr(warning);
-    info.warnings.push_back(std::move(warning));
-  }
-  if (declared) info.line = *declared;
+  info.source = reader.name();
+  if (const auto declared = reader.declared_settings()) info.line = *declared;
   if (options.overrides.baud) info.line.baud = *options.overrides.baud;
   if (options.overrides.parity) info.line.parity = *options.overrides.parity;
   if (options.overrides.stop_bits) info.line.stop_bits = *options.overrides.stop_bits;
-  if (result.use_chunks) {
-    info.per_byte_timing = result.per_byte_exact || survey.estimator.mostly_single_bytes();
+  if (use_chunks) {
     // A live recording declares the resolution its port achieved; replay uses the same,
     // so it frames exactly as the live run did.
-    info.timing_resolution =
-        first->declared_resolution().value_or(survey.estimator.resolution(precision));
+    info.timing_resolution = reader.declared_resolution().value_or(estimator.resolution(precision));
   } else {
     // Frame records carry each frame's start; how well the original capture showed
     // silences is what its export declared, else the interface's resolution.
-    info.per_byte_timing = false;
-    info.timing_resolution = first->declared_resolution().value_or(precision);
+    info.timing_resolution = reader.declared_resolution().value_or(precision);
   }
   if (options.resolution) info.timing_resolution = *options.resolution;
   info.response_timeout = options.response_timeout;
   // A live recording says which response timeout decided its timeouts; unless the user
   // asks for another, replay uses the same.
-  if (const auto timeout = first->declared_timeout(); timeout && !options.response_timeout_set) {
+  if (const auto timeout = reader.declared_timeout(); timeout && !options.response_timeout_set) {
     info.response_timeout = *timeout;
+  }
+  return result;
+}
+
+// What only the whole capture shows, added to `result` (and shown, when options say so):
+// the reader's doubts, whether the reads held single bytes, settings inferred from the
+// timing, and where the timing contradicts the settings.
+void add_whole_capture_findings(CaptureSurvey& result, const CaptureReader& reader,
+                                const Survey& survey, const CaptureOpener& open,
+                                const ReplayOptions& options) {
+  CaptureInfo& info = result.info;
+  const Nanos precision = reader.timestamp_precision();
+  const auto declared = reader.declared_settings();
+  info.per_byte_timing =
+      result.use_chunks && (result.per_byte_exact || survey.estimator.mostly_single_bytes());
+  for (auto& warning : reader.capture_warnings()) {
+    // Not silent: what the file lacks shows as damaged frames, and the user must know why.
+    if (options.show_warnings) print_warning_to_stderr(warning);
+    info.warnings.push_back(std::move(warning));
   }
   bool inferred = false;
   const std::size_t warnings_before = info.warnings.size();
@@ -221,11 +226,11 @@ CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& opt
   const bool explained = declared.has_value() || inferred || options.overrides.infer_baud;
   add_line_warnings(info, explained, options.overrides, survey.line_check, precision,
                     options.show_warnings);
-  return result;
 }
 
-void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
-                    const ReplayOptions& options, RecordSink& sink) {
+// Pass 2 over `reader`, as `survey` says, into `sink`.
+void decode_from(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
+                 RecordSink& sink) {
   const CaptureInfo& info = survey.info;
   PipelineOptions pipeline_options;
   pipeline_options.line = info.line;
@@ -235,12 +240,10 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
   pipeline_options.per_byte_timing = survey.per_byte_exact;
   DecodePipeline pipeline(pipeline_options, sink);
   pipeline.start(info);
-  // The reader parses on the second core while this one decodes (same items, same order).
-  auto reader = std::make_unique<ReadAhead>(open([](std::string_view) {}));
   Feed feed(pipeline, options, survey.use_chunks, info.line.char_time());
-  PassProgress decode_progress(*reader, ReplayProgress::Pass::kDecode, options);
+  PassProgress decode_progress(reader, ReplayProgress::Pass::kDecode, options);
   try {
-    while (reader->read(feed)) {
+    while (reader.read(feed)) {
       decode_progress.tick();
       if (options.enough && options.enough()) break;
     }
@@ -251,6 +254,140 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
   }
   decode_progress.done();
   pipeline.finish();
+}
+
+// True when `a` and `b` decode a capture alike.
+bool same_decoding(const CaptureSurvey& a, const CaptureSurvey& b) {
+  const CaptureInfo& x = a.info;
+  const CaptureInfo& y = b.info;
+  return a.use_chunks == b.use_chunks && a.per_byte_exact == b.per_byte_exact &&
+         x.source == y.source && x.line.baud == y.line.baud && x.line.parity == y.line.parity &&
+         x.line.stop_bits == y.line.stop_bits && x.timing_resolution == y.timing_resolution &&
+         x.response_timeout == y.response_timeout;
+}
+
+// A reader's passing warnings, kept (from the reading thread) to be shown in order later.
+class HeldWarnings {
+ public:
+  WarningSink sink() {
+    return [this](std::string_view message) {
+      const std::lock_guard lock(mutex_);
+      held_.emplace_back(message);
+    };
+  }
+  void show() {
+    const std::lock_guard lock(mutex_);
+    for (const auto& message : held_) print_warning_to_stderr(message);
+    held_.clear();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::string> held_;
+};
+
+// Items read before a declared survey settles how the capture is fed: the first raw read
+// comes at once in a live recording.
+constexpr std::uint64_t kPeekItems = 64;
+
+// Counts what the first items of a capture are.
+class Peek final : public CaptureConsumer {
+ public:
+  void on_chunk(const Chunk& /*chunk*/) override {
+    ++items;
+    ++chunks;
+  }
+  void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {
+    ++items;
+  }
+  void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {
+    ++items;
+  }
+  void on_end(Nanos /*t*/) override { ++items; }
+  std::uint64_t items = 0;
+  std::uint64_t chunks = 0;
+};
+
+}  // namespace
+
+CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& options) {
+  // Reader warnings are shown once, here.
+  auto first =
+      options.show_warnings ? open(print_warning_to_stderr) : open([](std::string_view) {});
+  Survey survey;
+  PassProgress survey_progress(*first, ReplayProgress::Pass::kSurvey, options);
+  try {
+    while (first->read(survey)) survey_progress.tick();
+  } catch (const InputError&) {
+    // Damaged input: learn from what precedes the damage; pass 2 decodes up to it and
+    // then reports the error.
+  }
+  survey_progress.done();
+  // Frame records are decoded as they are only when there are no raw reads to re-frame.
+  CaptureSurvey result = decoding_settings(*first, survey.chunks > 0 || !first->holds_frames(),
+                                           survey.estimator, options);
+  add_whole_capture_findings(result, *first, survey, open, options);
+  return result;
+}
+
+std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
+                                             const ReplayOptions& options) {
+  Peek peek;
+  auto reader = open([](std::string_view) {});
+  try {
+    while (peek.items < kPeekItems && peek.chunks == 0 && reader->read(peek)) {
+    }
+  } catch (const InputError&) {
+    return std::nullopt;  // the full survey learns what precedes the damage
+  }
+  // Raw reads (or a format without frame records) are what survey_capture re-frames too;
+  // frame records alone may be decoded as they are only if no read follows later.
+  if (peek.chunks == 0 && reader->holds_frames()) return std::nullopt;
+  // Declarations are final once made (the first one wins); one made only later in the
+  // capture (an undeclared timeout) is caught by decode_and_survey.
+  if (!reader->declared_settings()) return std::nullopt;
+  if (!reader->declared_resolution() && !options.resolution) return std::nullopt;
+  if (wants_inference(options.overrides, true)) return std::nullopt;
+  return decoding_settings(*reader, true, TimingEstimator{}, options);
+}
+
+void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
+                    const ReplayOptions& options, RecordSink& sink) {
+  // The reader parses on the second core while this one decodes (same items, same order).
+  ReadAhead reader(open([](std::string_view) {}));
+  decode_from(reader, survey, options, sink);
+}
+
+std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
+                                             const ReplayOptions& options, RecordSink& sink) {
+  HeldWarnings passing;
+  Survey alongside;
+  ReadAhead reader(open(passing.sink()), &alongside);
+  ReplayOptions to_the_end = options;
+  to_the_end.enough = nullptr;
+  // What survey_capture would have said, now that the whole capture was read.
+  const auto surveyed = [&] {
+    const CaptureReader& source = reader.source();
+    return decoding_settings(source, alongside.chunks > 0 || !source.holds_frames(),
+                             alongside.estimator, options);
+  };
+  // Shown as survey_capture shows them: the passing warnings, then the whole capture's.
+  const auto conclude = [&] {
+    if (options.show_warnings) passing.show();
+    add_whole_capture_findings(survey, reader.source(), alongside, open, options);
+  };
+  try {
+    decode_from(reader, survey, to_the_end, sink);
+  } catch (...) {
+    // The input's damage: what precedes it was surveyed.
+    if (reader.ended() && same_decoding(surveyed(), survey)) conclude();
+    throw;
+  }
+  if (!same_decoding(surveyed(), survey)) return std::nullopt;
+  conclude();
+  return survey.info;
 }
 
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,

@@ -77,6 +77,24 @@ CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& opt
 void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
                     const ReplayOptions& options, RecordSink& sink);
 
+// Pass 1 without the pass, where the capture declares all that decoding needs (a live
+// recording or `export --raw` declares line settings, resolution and response timeout) and
+// its first items are raw reads: how to decode it, from a look at its start. What only the
+// whole capture shows (warnings, per_byte_timing) is missing: decode_and_survey learns it
+// while decoding. nullopt where the full survey_capture is needed.
+std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
+                                             const ReplayOptions& options);
+
+// Pass 2 with pass 1 alongside, on the reading thread: decodes as decode_capture does (to the
+// end: options.enough is not asked) with `survey` from declared_survey, and returns the
+// capture's info as survey_capture would have given it, its warnings shown at the end. A
+// sink that needs the warnings before the records (a JSONL header) cannot use this.
+// nullopt (nothing shown) when the whole capture says to decode otherwise than its start did
+// (a response timeout declared only later): then what `sink` got is void, and the capture
+// is to be decoded again after survey_capture.
+std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
+                                             const ReplayOptions& options, RecordSink& sink);
+
 // Opens the capture `file`, or the captures `files` as one capture in time order
 // (capture/capture_paths.hpp), by the reader of their format. The opener keeps what the
 // files refer to (a temporary copy of piped input) readable for as long as it lives.

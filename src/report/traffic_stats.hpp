@@ -211,6 +211,10 @@ class TrafficStats : public RecordSink {
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
+  // The capture's description once the whole capture was read, where it was surveyed while
+  // being decoded (decode_and_survey): the same settings as on_capture gave, now with the
+  // warnings and the per-byte timing only the whole capture tells.
+  void complete_capture(const CaptureInfo& info) { info_ = info; }
 
   [[nodiscard]] const CaptureInfo& capture() const { return info_; }
   [[nodiscard]] const Totals& totals() const { return totals_; }

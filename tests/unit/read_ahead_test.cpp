@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -115,6 +116,34 @@ TEST(ReadAhead, CanBeDroppedBeforeTheEnd) {
     EXPECT_EQ(t.lines.size(), static_cast<std::size_t>(items));
   }  // the destructor stops the reading thread, which may be waiting for a free batch
   std::remove(path.c_str());
+}
+
+// A consumer alongside sees every item, the reader's error included, as a direct read gives
+// them (on the reading thread), and the reader answers for the whole capture once reading
+// ended: never before.
+TEST(ReadAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEnd) {
+  for (const bool damaged : {false, true}) {
+    const std::string path = write_long_capture(damaged);
+    auto direct = open_capture(path, [](std::string_view) {});
+    auto expected = transcript_of(*direct);
+    // The consumer alongside does not see read() return or throw: only the items.
+    if (damaged) expected.pop_back();
+    Transcript alongside;
+    ReadAhead ahead(open_capture(path, [](std::string_view) {}), &alongside);
+    Transcript first;
+    ASSERT_TRUE(ahead.read(first));
+    EXPECT_FALSE(ahead.ended());
+    EXPECT_THROW((void)ahead.source(), std::logic_error);
+    const auto rest = transcript_of(ahead);
+    EXPECT_TRUE(ahead.ended());
+    EXPECT_EQ(alongside.lines, expected);
+    EXPECT_EQ(first.lines.size() + rest.size(), expected.size() + (damaged ? 1U : 0U));
+    const CaptureReader& source = ahead.source();
+    ASSERT_TRUE(source.declared_settings().has_value());
+    EXPECT_EQ(source.declared_settings()->baud, 9600U);
+    EXPECT_EQ(source.bytes_read(), ahead.bytes_read());
+    std::remove(path.c_str());
+  }
 }
 
 }  // namespace

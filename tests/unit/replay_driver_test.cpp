@@ -50,6 +50,7 @@ struct Script {
   Nanos precision = 1000;
   std::optional<Nanos> declared_resolution;
   std::optional<Nanos> declared_timeout;
+  std::optional<LineSettings> declared_line;
   std::vector<std::string> warnings;
 };
 
@@ -83,6 +84,9 @@ class ScriptedReader final : public CaptureReader {
   }
   [[nodiscard]] std::optional<Nanos> declared_timeout() const override {
     return script_.declared_timeout;
+  }
+  [[nodiscard]] std::optional<LineSettings> declared_settings() const override {
+    return script_.declared_line;
   }
   [[nodiscard]] bool holds_frames() const override { return script_.holds_frames; }
   [[nodiscard]] std::vector<std::string> capture_warnings() const override {
@@ -199,6 +203,62 @@ TEST(ReplayDriver, DamageIsReportedAfterEverythingBeforeIt) {
   EXPECT_THROW(replay(script, r), InputError);
   EXPECT_EQ(bytes_of(r.sink), (std::vector<Bytes>{kRequest}));
   EXPECT_TRUE(r.sink.finished);
+}
+
+// Only a capture that declares its line and resolution, and starts with raw reads, is decoded
+// without a survey pass; then decoding while surveying gives survey_capture's records and
+// info, warnings and per-byte timing included.
+TEST(ReplayDriver, ADeclaredSurveyNeedsDeclarationsAndRawReadsAndGivesTheSurveysAnswers) {
+  Script script;
+  script.declared_line = LineSettings{19200, Parity::kEven, 1};
+  script.declared_resolution = 1 * kMs;
+  script.warnings = {"scripted: offset 9: record cut"};
+  for (int i = 0; i < 50; ++i) {
+    script.items.push_back({Item::Kind::kChunk, (10 + 100 * i) * kMs, kRequest});
+    script.items.push_back({Item::Kind::kChunk, (60 + 100 * i) * kMs, kResponse});
+  }
+  int opened = 0;
+  const CaptureOpener open = [&](WarningSink) {
+    ++opened;
+    return std::make_unique<ScriptedReader>(script);
+  };
+  ReplayOptions options;
+  options.show_warnings = false;
+  const auto declared = declared_survey(open, options);
+  ASSERT_TRUE(declared.has_value());
+  EXPECT_EQ(declared->info.line.baud, 19200U);
+  EXPECT_TRUE(declared->info.warnings.empty());
+  CollectingSink alongside;
+  const auto info = decode_and_survey(open, *declared, options, alongside);
+  ASSERT_TRUE(info.has_value());
+  Replayed surveyed;
+  replay(script, surveyed);
+  EXPECT_EQ(bytes_of(alongside), bytes_of(surveyed.sink));
+  EXPECT_EQ(alongside.records.size(), 100U);
+  EXPECT_EQ(info->warnings, surveyed.info.warnings);
+  EXPECT_EQ(info->per_byte_timing, surveyed.info.per_byte_timing);
+  EXPECT_EQ(info->timing_resolution, surveyed.info.timing_resolution);
+  EXPECT_EQ(info->response_timeout, surveyed.info.response_timeout);
+
+  Script frames_first = script;
+  frames_first.items.insert(frames_first.items.begin(), 70,
+                            {Item::Kind::kFrame, 1 * kMs, kRequest});
+  Script undeclared_line = script;
+  undeclared_line.declared_line.reset();
+  Script undeclared_resolution = script;
+  undeclared_resolution.declared_resolution.reset();
+  for (const Script* refused : {&frames_first, &undeclared_line, &undeclared_resolution}) {
+    const CaptureOpener open_refused = [&](WarningSink) {
+      return std::make_unique<ScriptedReader>(*refused);
+    };
+    EXPECT_FALSE(declared_survey(open_refused, options).has_value());
+  }
+  // The user's resolution stands in for the capture's.
+  options.resolution = 2 * kMs;
+  const CaptureOpener open_undeclared = [&](WarningSink) {
+    return std::make_unique<ScriptedReader>(undeclared_resolution);
+  };
+  EXPECT_TRUE(declared_survey(open_undeclared, options).has_value());
 }
 
 std::vector<Bytes> decode_file(const std::string& path) {

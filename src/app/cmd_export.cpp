@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,26 @@ std::string seconds_text(Nanos t) {
   return fmt::to_string(out);
 }
 
+// Decodes the capture as `survey` says into a new export at `path`; with `alongside`, `survey`
+// is declared_survey's and the survey runs during the decoding. nullopt when that survey says
+// the capture must be decoded again (the file is then written anew).
+std::optional<PcapExportCounts> export_once(const CaptureOpener& capture,
+                                            const CaptureSurvey& survey, bool alongside,
+                                            ReplayOptions replay, const PcapExportOptions& options,
+                                            const std::string& path) {
+  auto file = std::make_unique<FileOutput>(path);
+  FileOutput& written = *file;
+  PcapExportSink sink(std::move(file), options);
+  if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
+  if (alongside) {
+    if (!decode_and_survey(capture, survey, replay, sink)) return std::nullopt;
+  } else {
+    decode_capture(capture, survey, replay, sink);
+  }
+  written.flush();
+  return sink.counts();
+}
+
 void setup_export(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ExportArgs>();
   auto* cmd = app.add_subcommand(
@@ -61,17 +82,22 @@ void setup_export(CLI::App& app, int& exit_code) {
     options.raw = args->raw;
     ReplayOptions replay = args->line.to_replay_options();
     FileReplacedOnSuccess output(args->output);
-    auto file = std::make_unique<FileOutput>(output.temporary_path());
-    FileOutput& written = *file;
-    PcapExportSink sink(std::move(file), options);
-    if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
     ProgressLine progress(progress_wanted(args->quiet, args->output));
     progress.attach(replay, "exporting");
-    replay_capture(files, replay, sink);
+    const CaptureOpener capture = capture_opener(files);
+    // The export says nothing that only the whole capture shows (its warnings go to stderr),
+    // so a capture that declares its settings needs no survey pass first.
+    std::optional<PcapExportCounts> exported;
+    if (const auto declared = declared_survey(capture, replay)) {
+      exported = export_once(capture, *declared, true, replay, options, output.temporary_path());
+    }
+    if (!exported) {
+      const CaptureSurvey survey = survey_capture(capture, replay);
+      exported = export_once(capture, survey, false, replay, options, output.temporary_path());
+    }
     progress.erase();
-    written.flush();
     output.commit();
-    const auto& counts = sink.counts();
+    const PcapExportCounts& counts = *exported;
     if (counts.shifted_by != 0) {
       fmt::print(stderr,
                  "rtuscope: warning: {}: every time is {} s later than in the capture: its first "

@@ -47,6 +47,32 @@ void Framer::expect_request() {
   expect_response_ = false;
 }
 
+// Called for every byte: kept small enough to inline into push(), with the rare work apart.
+inline void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end,
+                                Nanos gap_before, std::uint64_t origin, std::uint16_t chunk_size) {
+  if (end_ == kWindow) [[unlikely]] {
+    slide_window();
+  }
+  settled_.reset((consumed_ + buffered()) % kWindow);  // a new position, not looked at yet
+  bytes_[end_] = value;
+  info_[end_] = ByteInfo{t_end, gap_before, origin, chunk_size, errors};
+  ++end_;
+  last_byte_end_ = t_end;
+  if (buffered() >= kMaxPending) [[unlikely]] {
+    decide(false);
+  }
+}
+
+// Slides the window back to the front; it never holds more than kMaxPending bytes.
+void Framer::slide_window() {
+  const std::size_t n = buffered();
+  std::memmove(bytes_.data(), bytes_.data() + begin_, n);
+  std::copy(info_.begin() + static_cast<std::ptrdiff_t>(begin_),
+            info_.begin() + static_cast<std::ptrdiff_t>(end_), info_.begin());
+  begin_ = 0;
+  end_ = n;
+}
+
 void Framer::push(const Chunk& chunk) {
   const std::size_t n = chunk.bytes.size();
   if (n == 0) return;
@@ -104,25 +130,6 @@ Nanos Framer::oldest_pending_start() const {
 void Framer::finish() {
   decide(true);
   flush_noise();
-}
-
-void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
-                         std::uint64_t origin, std::uint16_t chunk_size) {
-  if (end_ == kWindow) {
-    // Slide the window back to the front; it never holds more than kMaxPending bytes.
-    const std::size_t n = buffered();
-    std::memmove(bytes_.data(), bytes_.data() + begin_, n);
-    std::copy(info_.begin() + static_cast<std::ptrdiff_t>(begin_),
-              info_.begin() + static_cast<std::ptrdiff_t>(end_), info_.begin());
-    begin_ = 0;
-    end_ = n;
-  }
-  settled_.reset((consumed_ + buffered()) % kWindow);  // a new position, not looked at yet
-  bytes_[end_] = value;
-  info_[end_] = ByteInfo{t_end, gap_before, origin, chunk_size, errors};
-  ++end_;
-  last_byte_end_ = t_end;
-  if (buffered() >= kMaxPending) decide(false);
 }
 
 void Framer::decide(bool at_end) {

@@ -105,6 +105,7 @@ class Framer {
 
   void append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
                    std::uint64_t origin, std::uint16_t chunk_size);
+  void slide_window();
   void learn_from(std::size_t length);
   [[nodiscard]] bool reads_are_batched() const;
   void decide(bool at_end);

@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <cstring>
 #include <stdexcept>
 
+#include "capture/field_cursor.hpp"
 #include "capture/pcap_format.hpp"
 #include "core/input_error.hpp"
 
@@ -61,47 +61,33 @@ void PcapngWriter::write_packet(std::uint32_t interface_id, Nanos t,
   const std::string_view comment = meta.comment.substr(0, 0xFFFC);
   // Every frame of an export and every read of a recording comes here: the block is sized
   // once and written in place, the same bytes begin_block/add_option/finish_block give.
-  const auto padded = [](std::size_t n) { return (n + 3U) & ~std::size_t{3}; };
-  const std::size_t comment_size = comment.empty() ? 0 : 4 + padded(comment.size());
+  const std::size_t comment_size = comment.empty() ? 0 : 4 + padded4(comment.size());
   const std::size_t flags_size = meta.flags != 0 ? 8 : 0;
   const std::size_t end_of_options = comment_size + flags_size > 0 ? 4 : 0;
   const std::size_t total =
-      8 + 20 + padded(data.size()) + comment_size + flags_size + end_of_options + 4;
+      8 + 20 + padded4(data.size()) + comment_size + flags_size + end_of_options + 4;
   block_.resize(total);
-  std::uint8_t* p = block_.data();
-  put<std::uint32_t>(p, pcap::kBlockEnhancedPacket, order_);
-  put<std::uint32_t>(p + 4, static_cast<std::uint32_t>(total), order_);
-  put<std::uint32_t>(p + 8, interface_id, order_);
-  put<std::uint32_t>(p + 12, static_cast<std::uint32_t>(ticks >> 32U), order_);
-  put<std::uint32_t>(p + 16, static_cast<std::uint32_t>(ticks & 0xFFFFFFFFU), order_);
-  put<std::uint32_t>(p + 20, captured, order_);
-  put<std::uint32_t>(p + 24, meta.original_length > captured ? meta.original_length : captured,
-                     order_);
-  p += 28;
-  const auto copy_padded = [&](std::span<const std::uint8_t> bytes) {
-    if (!bytes.empty()) std::memcpy(p, bytes.data(), bytes.size());
-    std::memset(p + bytes.size(), 0, padded(bytes.size()) - bytes.size());
-    p += padded(bytes.size());
-  };
-  copy_padded(data);
+  FieldCursor out(block_.data(), order_);
+  out.put<std::uint32_t>(pcap::kBlockEnhancedPacket);
+  out.put<std::uint32_t>(static_cast<std::uint32_t>(total));
+  out.put<std::uint32_t>(interface_id);
+  out.put<std::uint32_t>(static_cast<std::uint32_t>(ticks >> 32U));
+  out.put<std::uint32_t>(static_cast<std::uint32_t>(ticks & 0xFFFFFFFFU));
+  out.put<std::uint32_t>(captured);
+  out.put<std::uint32_t>(meta.original_length > captured ? meta.original_length : captured);
+  out.bytes(data, padded4(data.size()));
   if (comment_size != 0) {
-    put<std::uint16_t>(p, pcap::kOptComment, order_);
-    put<std::uint16_t>(p + 2, static_cast<std::uint16_t>(comment.size()), order_);
-    p += 4;
-    copy_padded(std::span(reinterpret_cast<const std::uint8_t*>(comment.data()), comment.size()));
+    const std::span text(reinterpret_cast<const std::uint8_t*>(comment.data()), comment.size());
+    out.tlv(pcap::kOptComment, static_cast<std::uint16_t>(comment.size()), text,
+            padded4(comment.size()));
   }
   if (flags_size != 0) {
-    put<std::uint16_t>(p, pcap::kEpbFlags, order_);
-    put<std::uint16_t>(p + 2, 4, order_);
-    put<std::uint32_t>(p + 4, meta.flags, order_);
-    p += 8;
+    out.put<std::uint16_t>(pcap::kEpbFlags);
+    out.put<std::uint16_t>(4);
+    out.put<std::uint32_t>(meta.flags);
   }
-  if (end_of_options != 0) {
-    put<std::uint16_t>(p, pcap::kOptEndOfOpt, order_);
-    put<std::uint16_t>(p + 2, 0, order_);
-    p += 4;
-  }
-  put<std::uint32_t>(p, static_cast<std::uint32_t>(total), order_);
+  if (end_of_options != 0) out.tlv(pcap::kOptEndOfOpt, 0, {}, 0);
+  out.put<std::uint32_t>(static_cast<std::uint32_t>(total));
   output_->write(block_);
   ++packets_;
 }
@@ -115,10 +101,10 @@ void PcapngWriter::begin_block(std::uint32_t type) {
 
 void PcapngWriter::add_option(std::uint16_t code, std::span<const std::uint8_t> value) {
   if (value.size() > 0xFFFFU) throw std::length_error("pcapng option longer than 65535 bytes");
-  append<std::uint16_t>(block_, code, order_);
-  append<std::uint16_t>(block_, static_cast<std::uint16_t>(value.size()), order_);
-  block_.insert(block_.end(), value.begin(), value.end());
-  while (block_.size() % 4 != 0) block_.push_back(0);
+  const std::size_t at = block_.size();
+  block_.resize(at + 4 + padded4(value.size()));
+  FieldCursor(block_.data() + at, order_)
+      .tlv(code, static_cast<std::uint16_t>(value.size()), value, padded4(value.size()));
   block_has_options_ = true;
 }
 

@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <cstring>
 
 #include "capture/byte_order.hpp"
+#include "capture/field_cursor.hpp"
 
 namespace rtu {
 namespace {
@@ -15,18 +15,14 @@ std::size_t padded_text(std::string_view text) {
   return (text.size() + 4U) & ~std::size_t{3};
 }
 
-// Writes tags one after the other into a record sized beforehand: every export writes one
-// record per frame, and its length is known before the first byte.
+// Writes tags one after the other into a record sized beforehand (FieldCursor). Tag values
+// are big-endian and their length field states the padded length.
 class TagWriter {
  public:
-  explicit TagWriter(std::uint8_t* at) : at_(at) {}
+  explicit TagWriter(std::uint8_t* at) : cursor_(at, ByteOrder::kBig) {}
 
   void tag(std::uint16_t tag, std::span<const std::uint8_t> value, std::size_t padded_length) {
-    put<std::uint16_t>(at_, tag, ByteOrder::kBig);
-    put<std::uint16_t>(at_ + 2, static_cast<std::uint16_t>(padded_length), ByteOrder::kBig);
-    if (!value.empty()) std::memcpy(at_ + 4, value.data(), value.size());
-    std::memset(at_ + 4 + value.size(), 0, padded_length - value.size());
-    at_ += 4 + padded_length;
+    cursor_.tlv(tag, static_cast<std::uint16_t>(padded_length), value, padded_length);
   }
   void text(std::uint16_t tag_id, std::string_view text) {
     tag(tag_id, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()),
@@ -37,13 +33,10 @@ class TagWriter {
     put(bytes.data(), value, ByteOrder::kBig);
     tag(tag_id, bytes, 4);
   }
-  void bytes(std::span<const std::uint8_t> data) {
-    if (!data.empty()) std::memcpy(at_, data.data(), data.size());
-    at_ += data.size();
-  }
+  void bytes(std::span<const std::uint8_t> data) { cursor_.bytes(data, data.size()); }
 
  private:
-  std::uint8_t* at_;
+  FieldCursor cursor_;
 };
 
 std::string_view as_text(std::span<const std::uint8_t> value) {

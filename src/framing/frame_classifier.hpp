@@ -7,6 +7,8 @@
 namespace rtu {
 
 // Sets crc_ok, shape_fit and the kCrc / kTruncated issues of a frame record.
-void classify_frame(Record& frame);
+// `crc_known_valid`: the caller has just found the CRC zero over exactly these bytes (the
+// framer's CRC-confirmed lengths), so it is not computed a second time.
+void classify_frame(Record& frame, bool crc_known_valid = false);
 
 }  // namespace rtu

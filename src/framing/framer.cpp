@@ -351,7 +351,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   bool head_pending = false;
   const std::size_t head_len = settled_or_confirmed_length(0, at_end, &head_pending);
   if (head_len > 0) {
-    emit_frame(head_len);
+    emit_frame(head_len, true);  // confirmed lengths are CRC-valid ones
     return Verdict::kEmitted;
   }
 
@@ -421,7 +421,7 @@ void Framer::classify_span(std::size_t length) {
     for (std::size_t len = 1; len < length && len <= kMaxAdu; ++len) {
       crc = crc16_update(crc, byte_at(len - 1));
       if (len >= kMinAdu && crc == 0) {
-        emit_frame(len);
+        emit_frame(len, true);
         return;
       }
     }
@@ -452,13 +452,13 @@ void Framer::fill_record(Record& rec, std::size_t from, std::size_t length) cons
   for (std::size_t i = 0; i < length; ++i) rec.line_errors |= info_at(from + i).errors;
 }
 
-void Framer::emit_frame(std::size_t length) {
+void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
   flush_noise();
   Record& rec = scratch_;
   rec.reset_keeping_storage();
   rec.kind = RecordKind::kFrame;
   fill_record(rec, 0, length);
-  classify_frame(rec);
+  classify_frame(rec, crc_confirmed);
 
   // Timing, only where the timestamps can show it.
   if (rec.crc_ok) learn_from(length);

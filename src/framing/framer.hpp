@@ -134,7 +134,8 @@ class Framer {
   bool awaited_response_at(std::size_t pos) const;
   std::size_t predicted_length(std::size_t pos) const;
 
-  void emit_frame(std::size_t length);
+  // `crc_confirmed`: the CRC was just found zero over [0, length).
+  void emit_frame(std::size_t length, bool crc_confirmed = false);
   void emit_noise(std::size_t length);
   void flush_noise();
   void consume(std::size_t length);

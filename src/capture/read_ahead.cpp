@@ -45,8 +45,10 @@ struct ReadAhead::Batch {
 class ReadAhead::Collector final : public CaptureConsumer {
  public:
   explicit Collector(Batch& batch) : batch_(batch) {}
+  // Items are filled in place in the batch: one built on the stack and copied in was
+  // stored and reloaded in pieces of different widths, which stalls the copy.
   void on_chunk(const Chunk& chunk) override {
-    Item item = bytes_item(Item::Kind::kChunk, chunk.bytes, chunk.t_end, chunk.origin);
+    Item& item = bytes_item(Item::Kind::kChunk, chunk.bytes, chunk.t_end, chunk.origin);
     item.t_first_start = chunk.t_first_start;
     item.port = chunk.port;
     if (!chunk.errors.empty()) {
@@ -56,25 +58,23 @@ class ReadAhead::Collector final : public CaptureConsumer {
       std::copy(chunk.errors.begin(), chunk.errors.end(),
                 batch_.errors.begin() + static_cast<std::ptrdiff_t>(item.at));
     }
-    batch_.items.push_back(item);
   }
   void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
-    batch_.items.push_back(bytes_item(Item::Kind::kFrame, adu, t_start, origin));
+    bytes_item(Item::Kind::kFrame, adu, t_start, origin);
   }
   void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override {
-    batch_.items.push_back(bytes_item(Item::Kind::kNoise, bytes, t_start, origin));
+    bytes_item(Item::Kind::kNoise, bytes, t_start, origin);
   }
   void on_end(Nanos t) override {
-    Item item;
+    Item& item = batch_.items.emplace_back();
     item.kind = Item::Kind::kEnd;
     item.t = t;
-    batch_.items.push_back(item);
   }
 
  private:
-  Item bytes_item(Item::Kind kind, std::span<const std::uint8_t> bytes, Nanos t,
-                  std::uint64_t origin) {
-    Item item;
+  Item& bytes_item(Item::Kind kind, std::span<const std::uint8_t> bytes, Nanos t,
+                   std::uint64_t origin) {
+    Item& item = batch_.items.emplace_back();
     item.kind = kind;
     item.t = t;
     item.origin = origin;

@@ -30,7 +30,9 @@ void append_named(const Record& frame, const std::vector<DecodedPoint>& points,
   for (const DecodedPoint& p : points) {
     if (p.point == nullptr || p.spare_index > 0 || p.partial || !p.has_value) continue;
     if (p.unknown_vars != 0) continue;
-    PointValue v;
+    // Filled in place: a PointValue built on the stack and then copied in was stored and
+    // reloaded in pieces of different widths, which stalls the copy (the report's top cost).
+    PointValue& v = out.emplace_back();
     v.t = frame.t_start;
     v.slave = frame.slave();
     v.point = p.point->name;
@@ -38,7 +40,6 @@ void append_named(const Record& frame, const std::vector<DecodedPoint>& points,
     v.unit = p.point->unit;
     v.key = reinterpret_cast<std::uintptr_t>(p.point);
     v.definition = p.point;
-    out.push_back(v);
   }
 }
 

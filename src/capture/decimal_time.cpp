@@ -43,8 +43,10 @@ bool scale_to_nanos(DigitAt digit_at, long count, long point, std::uint64_t& out
 // The shape nearly every capture writes, "1700000000.123456": no sign, no exponent, at most
 // 10 whole and 9 fraction digits, so the value fits int64 ns without rounding. Reads it
 // from the start of `text` up to the first character that cannot continue it, and returns
-// how many characters that was; 0 (and `out` untouched) when they are not that shape.
-std::size_t scan_plain_seconds(std::string_view text, ParsedTime& out) {
+// how many characters that was; 0 (and `ns`, `decimals` untouched) when they are not that
+// shape. Plain scalars out, not a ParsedTime: a struct written field by field and then copied
+// whole stalls on the copy, once per line of a text capture.
+std::size_t scan_plain_seconds(std::string_view text, Nanos& ns_out, int& decimals_out) {
   constexpr std::size_t kMaxWhole = 10;
   constexpr std::size_t kMaxFraction = 9;
   std::size_t i = 0;
@@ -69,16 +71,23 @@ std::size_t scan_plain_seconds(std::string_view text, ParsedTime& out) {
   // Ten whole digits can pass int64 ns (9223372036.854775808): the general parser says so.
   const std::uint64_t ns = whole * 1'000'000'000U + fraction;
   if (ns > kMaxMagnitude) return 0;
-  out.status = ParsedTime::Status::kOk;
-  out.ns = static_cast<Nanos>(ns);
-  out.decimals = static_cast<int>(fraction_digits);
+  ns_out = static_cast<Nanos>(ns);
+  decimals_out = static_cast<int>(fraction_digits);
   return i;
 }
 
+void set_ok(ParsedTime& out, Nanos ns, int decimals) {
+  out.status = ParsedTime::Status::kOk;
+  out.ns = ns;
+  out.decimals = decimals;
+}
+
 bool parse_plain_seconds(std::string_view text, ParsedTime& out) {
-  ParsedTime parsed;
-  if (scan_plain_seconds(text, parsed) != text.size()) return false;
-  out = parsed;
+  Nanos ns = 0;
+  int decimals = 0;
+  const std::size_t length = scan_plain_seconds(text, ns, decimals);
+  if (length == 0 || length != text.size()) return false;  // "" is for the general parser
+  set_ok(out, ns, decimals);
   return true;
 }
 
@@ -91,13 +100,14 @@ Nanos step_for_decimals(int decimals) {
 }
 
 std::size_t parse_plain_seconds_word(std::string_view text, ParsedTime& out) {
-  ParsedTime parsed;
-  const std::size_t length = scan_plain_seconds(text, parsed);
+  Nanos ns = 0;
+  int decimals = 0;
+  const std::size_t length = scan_plain_seconds(text, ns, decimals);
   if (length == 0) return 0;
   if (length < text.size() && text[length] != ' ' && text[length] != '\t' && text[length] != '#') {
     return 0;
   }
-  out = parsed;
+  set_ok(out, ns, decimals);
   return length;
 }
 

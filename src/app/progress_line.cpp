@@ -61,7 +61,8 @@ void ProgressLine::update(const ReplayProgress& progress) {
   // The last report of a pass is always drawn, so every pass is seen to finish.
   if (!progress.pass_done && on_screen_ && now - last_draw_ < kRedrawEvery) return;
   const bool decoding = progress.pass == ReplayProgress::Pass::kDecode;
-  const std::string label = fmt::format("{} {}/2", label_, decoding ? 2 : 1);
+  const std::string label = progress.only_pass ? fmt::format("{} 1/1", label_)
+                                               : fmt::format("{} {}/2", label_, decoding ? 2 : 1);
   ProgressFigures figures;
   figures.label = label;
   figures.bytes = bytes_;

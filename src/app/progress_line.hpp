@@ -33,7 +33,8 @@ class ProgressLine {
   ProgressLine& operator=(ProgressLine&&) = delete;
 
   // The next replay_capture with `options` shows its two passes over the file as
-  // "<label> 1/2" (learning the timing) and "<label> 2/2" (the work itself).
+  // "<label> 1/2" (learning the timing) and "<label> 2/2" (the work itself), or its one pass
+  // as "<label> 1/1" where the timing is learned alongside (decode_and_survey).
   void attach(ReplayOptions& options, std::string label);
   // Takes the line off the terminal, before the command writes there.
   void erase();

@@ -132,9 +132,11 @@ FrameSample sample_frames(const CaptureOpener& open, const FramerConfig& config)
 // Tells ReplayOptions::on_progress how far one pass over a reader has got.
 class PassProgress {
  public:
-  PassProgress(const CaptureReader& reader, ReplayProgress::Pass pass, const ReplayOptions& options)
+  PassProgress(const CaptureReader& reader, ReplayProgress::Pass pass, const ReplayOptions& options,
+               bool only_pass = false)
       : reader_(reader), options_(options) {
     progress_.pass = pass;
+    progress_.only_pass = only_pass;
   }
   // After each record read; only every kProgressEvery-th one costs more than an increment.
   void tick() {
@@ -228,9 +230,9 @@ void add_whole_capture_findings(CaptureSurvey& result, const CaptureReader& read
                     options.show_warnings);
 }
 
-// Pass 2 over `reader`, as `survey` says, into `sink`.
+// Pass 2 over `reader`, as `survey` says, into `sink`. `only_pass`: no survey pass came first.
 void decode_from(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
-                 RecordSink& sink) {
+                 RecordSink& sink, bool only_pass = false) {
   const CaptureInfo& info = survey.info;
   PipelineOptions pipeline_options;
   pipeline_options.line = info.line;
@@ -241,7 +243,7 @@ void decode_from(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOpt
   DecodePipeline pipeline(pipeline_options, sink);
   pipeline.start(info);
   Feed feed(pipeline, options, survey.use_chunks, info.line.char_time());
-  PassProgress decode_progress(reader, ReplayProgress::Pass::kDecode, options);
+  PassProgress decode_progress(reader, ReplayProgress::Pass::kDecode, options, only_pass);
   try {
     while (reader.read(feed)) {
       decode_progress.tick();
@@ -379,7 +381,7 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
     add_whole_capture_findings(survey, reader.source(), alongside, open, options);
   };
   try {
-    decode_from(reader, survey, to_the_end, sink);
+    decode_from(reader, survey, to_the_end, sink, true);
   } catch (...) {
     // The input's damage: what precedes it was surveyed.
     if (reader.ended() && same_decoding(surveyed(), survey)) conclude();

@@ -35,6 +35,7 @@ struct ReplayProgress {
   std::uint64_t input_size = 0;  // bytes of input in all; 0 = unknown
   std::uint64_t records = 0;     // capture records (reads, frames) read in this pass
   bool pass_done = false;        // the last call of this pass (its reader ended or failed)
+  bool only_pass = false;        // decoding is the only pass: the survey runs alongside it
 };
 
 struct ReplayOptions {

@@ -26,7 +26,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..
 from check_support import fail  # noqa: E402  (after the path line)
 
 ERASE = b"\r\x1b[K"
-PROGRESS = re.compile(rb"([a-z]+ [12]/2)\s+(\d+)%\s+(\S+) MB/s\s+(\S+) rec/s\s+ETA (\S+)")
+PROGRESS = re.compile(rb"([a-z]+ (?:[12]/2|1/1))\s+(\d+)%\s+(\S+) MB/s\s+(\S+) rec/s\s+ETA (\S+)")
 BIG_SIZE = 5 * 1024 * 1024  # over the 4 MB below which no line is shown
 MIN_TWO_PASSES_S = 1.5  # the two passes of a report over the big capture, at least
 MAX_SIZE = 400 * 1024 * 1024
@@ -111,8 +111,9 @@ def progress_lines(stderr):
     return [m.groups() for m in PROGRESS.finditer(stderr)]
 
 
-def check_shown(stderr, labels, columns=120):
-    """The passes in `labels` each went 0..100 in order, and the line was erased at the end."""
+def check_shown(stderr, labels, columns=120, passes=2):
+    """The passes in `labels` each went 0..100 in order, and the line was erased at the end.
+    `passes`: 1 where the survey runs alongside the decoding (a capture declaring its settings)."""
     drawn = progress_lines(stderr)
     if not drawn:
         fail(f"no progress line on the terminal: {stderr[:300]!r}")
@@ -120,7 +121,7 @@ def check_shown(stderr, labels, columns=120):
     for label, *_ in drawn:
         if not order or order[-1] != label:
             order.append(label)
-    expected = [f"{name} {n}/2".encode() for name in labels for n in (1, 2)]
+    expected = [f"{name} {n}/{passes}".encode() for name in labels for n in range(1, passes + 1)]
     if order != expected:
         fail(f"passes drawn in the order {order}, expected {expected}")
     for label in expected:
@@ -233,6 +234,27 @@ def main():
                 outputs.append((stdout, f.read()))
         if len(outputs[0][1]) < 100000 or any(o != outputs[0] for o in outputs):
             fail("export's output differs between terminal, --quiet and pipe runs")
+    elif check == "native":
+        # The raw export declares its settings: report and export read it once, their survey
+        # alongside, and show that one pass as 1/1.
+        native = os.path.join(work, "native.pcapng")
+        expect_ok(run([rtuscope, "export", big, "--raw", "-o", native, "-q"], False),
+                  "export --raw")
+        cmd = [rtuscope, "report", native, "--no-identify"]
+        _, out_tty, err_tty = expect_ok(run(cmd, True), "report of a raw export on a terminal")
+        check_shown(err_tty, ["decoding"], passes=1)
+        if not err_tty.endswith(ERASE):
+            fail(f"progress line not erased at the end: {err_tty[-100:]!r}")
+        _, out_pipe, err_pipe = expect_ok(run(cmd, False), "report of a raw export to a pipe")
+        check_absent(err_pipe, "stderr on a pipe")
+        if not out_tty or out_tty != out_pipe:
+            fail("report's stdout differs between terminal and pipe runs")
+        again = os.path.join(work, "again.pcapng")
+        _, _, err_export = expect_ok(run([rtuscope, "export", native, "-o", again], True),
+                                     "export of a raw export on a terminal")
+        check_shown(err_export, ["exporting"], passes=1)
+        os.remove(native)
+        os.remove(again)
     elif check == "error":
         # The damaged line is at the end: the report fails there (exit 2) with the line erased
         # before the message, which starts on a clean line.

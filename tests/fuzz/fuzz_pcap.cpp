@@ -9,13 +9,19 @@
 //   raw reads re-framed when there are any, else the frame records decoded as they are)
 //   gives records of 1..256 bytes ending no earlier than they start, and every byte the
 //   reader delivered leaves in exactly one record; a damaged file ends the replay with an
-//   InputError naming where.
+//   InputError naming where;
+// - one read for a file that declares its settings (declared_survey, decode_and_survey, as
+//   `report` and `export` read rtuscope's own recordings): the same records and the same
+//   capture description (warnings included) as surveyed first, or an answer of "decode it
+//   again" (a declaration later in the file), never something else.
 #include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "capture/pcap_capture_reader.hpp"
 #include "capture_checks.hpp"
@@ -37,9 +43,64 @@ class CountingSink final : public rtu::RecordSink {
     }
     if (record.t_end < record.t_start) rtu::fuzz::fail(kTarget, "record ends before it starts", "");
     bytes += record.size;
+    const auto b = record.bytes();
+    seen.push_back(std::to_string(static_cast<int>(record.kind)) + " " +
+                   std::string(b.begin(), b.end()) + " " + std::to_string(record.t_start) + " " +
+                   std::to_string(record.t_end) + " " + std::to_string(record.gap_before) + " " +
+                   std::to_string(record.issues.bits()) + " " +
+                   std::to_string(static_cast<int>(record.role)) + " " +
+                   std::to_string(record.txn) + " " + std::to_string(record.latency));
   }
   std::size_t bytes = 0;
+  std::vector<std::string> seen;  // what each record shows, to compare two decodings
 };
+
+// What a capture's description tells the user, to compare two surveys.
+std::string described(const rtu::CaptureInfo& info) {
+  std::string text = info.source + " " + info.line.describe() + " " +
+                     std::to_string(info.timing_resolution) + " " +
+                     std::to_string(info.response_timeout) + " " +
+                     std::to_string(static_cast<int>(info.per_byte_timing));
+  for (const auto& warning : info.warnings) text += "\n" + warning;
+  return text;
+}
+
+// The one-read path against the two-pass one, on a file whose start declares its settings.
+void check_declared_survey(const rtu::CaptureOpener& open, const rtu::ReplayOptions& options,
+                           const CountingSink& surveyed_first,
+                           const std::optional<rtu::CaptureInfo>& surveyed_info) {
+  std::optional<rtu::CaptureSurvey> declared;
+  try {
+    declared = rtu::declared_survey(open, options);
+  } catch (const rtu::InputError& e) {
+    // Only a file the two passes could not read either (not a capture at all).
+    if (surveyed_info)
+      rtu::fuzz::fail(kTarget, "declared_survey failed on a readable file", e.what());
+    return;
+  } catch (const std::exception& e) {
+    rtu::fuzz::fail(kTarget, "declared_survey threw something other than InputError", e.what());
+  }
+  if (!declared) return;
+  CountingSink alongside;
+  std::optional<rtu::CaptureInfo> info;
+  try {
+    info = rtu::decode_and_survey(open, *declared, options, alongside);
+  } catch (const rtu::InputError&) {
+    if (surveyed_info) rtu::fuzz::fail(kTarget, "only the one-read decoding found damage", "");
+    return;
+  }
+  if (!info) return;  // decode it again: the two-pass decoding is the answer
+  if (!surveyed_info) rtu::fuzz::fail(kTarget, "only the two-pass decoding found damage", "");
+  if (alongside.seen != surveyed_first.seen) {
+    rtu::fuzz::fail(kTarget, "records differ between one read and two passes",
+                    std::to_string(alongside.seen.size()) + " and " +
+                        std::to_string(surveyed_first.seen.size()) + " records");
+  }
+  if (described(*info) != described(*surveyed_info)) {
+    rtu::fuzz::fail(kTarget, "the capture's description differs between one read and two passes",
+                    described(*info) + " | " + described(*surveyed_info));
+  }
+}
 
 // Bytes the replay must account for: the raw reads when there are any, else the frame and
 // noise records.
@@ -77,8 +138,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.show_warnings = false;
   CountingSink sink;
   bool replay_failed = false;
+  std::optional<rtu::CaptureInfo> surveyed_info;
   try {
-    (void)rtu::replay_capture(open, options, sink);
+    surveyed_info = rtu::replay_capture(open, options, sink);
   } catch (const rtu::InputError& e) {
     rtu::fuzz::require_offset(kTarget, e.what(), path, size);
     replay_failed = true;
@@ -92,5 +154,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     rtu::fuzz::fail(kTarget, "bytes lost or duplicated between the reader and the records",
                     std::to_string(sink.bytes) + " of " + std::to_string(bytes_to_decode(read)));
   }
+  check_declared_survey(open, options, sink, surveyed_info);
   return 0;
 }

@@ -160,6 +160,14 @@ def pcap_seeds() -> None:
     write("pcap", "reads-250-live.pcapng",
           pcapng([(250, "RS-485 19200 8E1; response timeout 300 ms")],
                  reads + [(0, end, rtac(end, b"", 0x06))]))
+    # Declared line settings and resolution, as `export --raw` writes them: report and export
+    # read such a file once (declared_survey); a section that declares a response timeout
+    # later makes them decode it again.
+    declared = pcapng([(250, "RS-485 19200 8E1; timing resolution 16 ms")], reads)
+    write("pcap", "reads-250-declared.pcapng", declared)
+    later = [(0, t + 10**9, rtac(t + 10**9, data)) for t, data in usb]
+    write("pcap", "reads-250-timeout-declared-later.pcapng",
+          declared + pcapng([(250, "RS-485 19200 8E1; response timeout 300 ms")], later))
     write("pcap", "reads-250-and-frames-252.pcapng",
           pcapng([(252, "RS-485 9600 8E1"), (250, "RS-485 9600 8E1")],
                  [(0, t, upper_pdu(f)) for t, f in frames[:4]] +

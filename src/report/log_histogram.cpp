@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -27,53 +26,14 @@ const std::array<Nanos, LogHistogram::kBuckets>& lower_bounds() {
   return table;
 }
 
-// The last bucket whose lower bound is at or below `value` ≥ kFloor, searching all bounds.
-std::size_t search_bucket(Nanos value) {
-  const auto& bounds = lower_bounds();
-  const auto above = std::upper_bound(bounds.begin() + 1, bounds.end(), value);
-  return static_cast<std::size_t>(above - bounds.begin()) - 1;
-}
-
-// Where to search for values with the same highest set bit: bucket_of(2^k) and
-// bucket_of(2^(k+1) - 1) bound the answer for every value in between (bounds ascend), so
-// a value is looked for among the ~35 buckets of its octave, not all 1400.
-struct OctaveRange {
-  std::uint16_t first = 0;
-  std::uint16_t last = 0;
-};
-
-const std::array<OctaveRange, 64>& octave_ranges() {
-  static const auto table = [] {
-    std::array<OctaveRange, 64> t{};
-    for (unsigned k = 0; k < 63; ++k) {
-      const Nanos low = std::max(Nanos{1} << k, LogHistogram::kFloor);
-      const Nanos high = k == 62 ? std::numeric_limits<Nanos>::max() : (Nanos{1} << (k + 1)) - 1;
-      if (high < LogHistogram::kFloor) continue;
-      t[k] = {static_cast<std::uint16_t>(search_bucket(low)),
-              static_cast<std::uint16_t>(search_bucket(high))};
-    }
-    return t;
-  }();
-  return table;
-}
-
 }  // namespace
 
 std::size_t LogHistogram::bucket_of(Nanos value) {
   if (value < kFloor) return 0;
-  // The last bucket whose lower bound is at or below the value (bucket 1 starts at kFloor),
-  // looked for within the value's octave.
-  const OctaveRange range =
-      octave_ranges()[static_cast<std::size_t>(std::bit_width(static_cast<std::uint64_t>(value))) -
-                      1];
+  // The last bucket whose lower bound is at or below the value (bucket 1 starts at kFloor).
   const auto& bounds = lower_bounds();
-  const auto above =
-      std::upper_bound(bounds.begin() + range.first + 1, bounds.begin() + range.last + 1, value);
+  const auto above = std::upper_bound(bounds.begin() + 1, bounds.end(), value);
   return static_cast<std::size_t>(above - bounds.begin()) - 1;
-}
-
-std::size_t LogHistogram::bucket_by_search(Nanos value) {
-  return value < kFloor ? 0 : search_bucket(value);
 }
 
 Nanos LogHistogram::bucket_lower(std::size_t i) {

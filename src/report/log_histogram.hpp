@@ -47,12 +47,8 @@ class LogHistogram {
     }
   }
 
-  // The bucket `value` is counted in: searched within the value's octave of bounds.
-  static std::size_t bucket_of(Nanos value);
-  // The same answer from a search of all the bounds (the definition; for tests).
-  static std::size_t bucket_by_search(Nanos value);
-
  private:
+  static std::size_t bucket_of(Nanos value);
   static Nanos bucket_lower(std::size_t i);
   static Nanos bucket_upper(std::size_t i);
   Nanos representative(std::size_t i) const;

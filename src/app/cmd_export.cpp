@@ -87,17 +87,12 @@ void setup_export(CLI::App& app, int& exit_code) {
     const CaptureOpener capture = capture_opener(files);
     // The export says nothing that only the whole capture shows (its warnings go to stderr),
     // so a capture that declares its settings needs no survey pass first.
-    std::optional<PcapExportCounts> exported;
-    if (const auto declared = declared_survey(capture, replay)) {
-      exported = export_once(capture, *declared, true, replay, options, output.temporary_path());
-    }
-    if (!exported) {
-      const CaptureSurvey survey = survey_capture(capture, replay);
-      exported = export_once(capture, survey, false, replay, options, output.temporary_path());
-    }
+    const PcapExportCounts counts = decode_surveyed<PcapExportCounts>(
+        capture, replay, true, [&](const CaptureSurvey& survey, bool alongside) {
+          return export_once(capture, survey, alongside, replay, options, output.temporary_path());
+        });
     progress.erase();
     output.commit();
-    const PcapExportCounts& counts = *exported;
     if (counts.shifted_by != 0) {
       fmt::print(stderr,
                  "rtuscope: warning: {}: every time is {} s later than in the capture: its first "

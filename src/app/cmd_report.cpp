@@ -114,19 +114,15 @@ void setup_report(CLI::App& app, int& exit_code) {
     // A capture that declares its settings (a live recording) needs no survey pass first:
     // the report is written at the end, so what only the whole capture shows is learned
     // alongside the decoding. Not with a CSV, which is written as the decoding goes.
-    std::optional<Analysis> analysis;
-    if (const auto declared =
-            args->csv.empty() ? declared_survey(capture, options) : std::nullopt) {
-      analysis = analyse(*args, capture, options, *declared, true, std::move(devices), progress);
-      if (!analysis) devices = args->devices.build_with_maps(options);
-    }
-    if (!analysis) {
-      const CaptureSurvey survey = survey_capture(capture, options);
-      analysis = analyse(*args, capture, options, survey, false, std::move(devices), progress);
-    }
-    const std::vector<Finding> findings = find_problems(*analysis->stats);
+    const Analysis analysis = decode_surveyed<Analysis>(
+        capture, options, args->csv.empty(), [&](const CaptureSurvey& survey, bool alongside) {
+          // A second decoding starts again from the models the options name.
+          if (!devices) devices = args->devices.build_with_maps(options);
+          return analyse(*args, capture, options, survey, alongside, std::move(devices), progress);
+        });
+    const std::vector<Finding> findings = find_problems(*analysis.stats);
     OutputStream out(args->output);
-    find_format_or_default(report_formats(), args->format).factory(out, *analysis->stats, findings);
+    find_format_or_default(report_formats(), args->format).factory(out, *analysis.stats, findings);
     exit_code = 0;
   });
 }

@@ -263,8 +263,7 @@ bool same_decoding(const CaptureSurvey& a, const CaptureSurvey& b) {
   const CaptureInfo& x = a.info;
   const CaptureInfo& y = b.info;
   return a.use_chunks == b.use_chunks && a.per_byte_exact == b.per_byte_exact &&
-         x.source == y.source && x.line.baud == y.line.baud && x.line.parity == y.line.parity &&
-         x.line.stop_bits == y.line.stop_bits && x.timing_resolution == y.timing_resolution &&
+         x.source == y.source && x.line == y.line && x.timing_resolution == y.timing_resolution &&
          x.response_timeout == y.response_timeout;
 }
 
@@ -292,26 +291,6 @@ class HeldWarnings {
 // comes at once in a live recording.
 constexpr std::uint64_t kPeekItems = 64;
 
-// Counts what the first items of a capture are.
-class Peek final : public CaptureConsumer {
- public:
-  void on_chunk(const Chunk& /*chunk*/) override {
-    ++items;
-    ++chunks;
-  }
-  void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
-                std::uint64_t /*origin*/) override {
-    ++items;
-  }
-  void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
-                std::uint64_t /*origin*/) override {
-    ++items;
-  }
-  void on_end(Nanos /*t*/) override { ++items; }
-  std::uint64_t items = 0;
-  std::uint64_t chunks = 0;
-};
-
 }  // namespace
 
 CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& options) {
@@ -336,17 +315,18 @@ CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& opt
 
 std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
                                              const ReplayOptions& options) {
-  Peek peek;
+  Survey start;
   auto reader = open([](std::string_view) {});
   try {
-    while (peek.items < kPeekItems && peek.chunks == 0 && reader->read(peek)) {
+    for (std::uint64_t items = 0; items < kPeekItems && start.chunks == 0 && reader->read(start);
+         ++items) {
     }
   } catch (const InputError&) {
     return std::nullopt;  // the full survey learns what precedes the damage
   }
   // Raw reads (or a format without frame records) are what survey_capture re-frames too;
   // frame records alone may be decoded as they are only if no read follows later.
-  if (peek.chunks == 0 && reader->holds_frames()) return std::nullopt;
+  if (start.chunks == 0 && reader->holds_frames()) return std::nullopt;
   // Declarations are final once made (the first one wins); one made only later in the
   // capture (an undeclared timeout) is caught by decode_and_survey.
   if (!reader->declared_settings()) return std::nullopt;

@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,25 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
 // is to be decoded again after survey_capture.
 std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
                                              const ReplayOptions& options, RecordSink& sink);
+
+// Decodes the capture once through `decode(survey, alongside)`: with declared_survey's survey
+// and the survey alongside (decode_and_survey) where the capture allows it and the caller
+// does (`alongside_allowed`); else, or when that decoding answers nullopt (decode it again),
+// after survey_capture. `decode` answers nullopt only for a decoding alongside.
+template <typename Result>
+Result decode_surveyed(const CaptureOpener& open, const ReplayOptions& options,
+                       bool alongside_allowed,
+                       const std::function<std::optional<Result>(const CaptureSurvey& survey,
+                                                                 bool alongside)>& decode) {
+  if (alongside_allowed) {
+    if (const auto declared = declared_survey(open, options)) {
+      if (auto result = decode(*declared, true)) return std::move(*result);
+    }
+  }
+  auto result = decode(survey_capture(open, options), false);
+  if (!result) throw std::logic_error("a decoding after the survey pass gave no result");
+  return std::move(*result);
+}
 
 // Opens the capture `file`, or the captures `files` as one capture in time order
 // (capture/capture_paths.hpp), by the reader of their format. The opener keeps what the

@@ -28,6 +28,8 @@ struct LineSettings {
   [[nodiscard]] Nanos t3_5() const;
   // "9600 8E1"
   [[nodiscard]] std::string describe() const;
+
+  bool operator==(const LineSettings&) const = default;
 };
 
 char parity_letter(Parity p);

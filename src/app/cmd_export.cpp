@@ -47,6 +47,8 @@ std::optional<PcapExportCounts> export_once(const CaptureOpener& capture,
   FileOutput& written = *file;
   PcapExportSink sink(std::move(file), options);
   if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
+  // Writing records costs less than framing them: the framing keeps the decoding core.
+  replay.frame_ahead = false;
   if (alongside) {
     if (!decode_and_survey(capture, survey, replay, sink)) return std::nullopt;
   } else {

@@ -7,17 +7,13 @@
 //
 // Memory is bounded: at most kBatches batches of at most kBatchItems items or kBatchBytes
 // bytes exist at a time.
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
-#include <exception>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
-#include <vector>
 
 #include "capture/capture_reader.hpp"
+#include "core/handoff_queue.hpp"
 
 namespace rtu {
 
@@ -59,10 +55,8 @@ class ReadAhead final : public CaptureReader {
   struct Item;
   struct Batch;
   class Collector;
-  class Tee;
 
   void run();  // the reading thread
-  std::unique_ptr<Batch> next_free();
   void deliver(const Item& item, const Batch& batch, CaptureConsumer& to);
 
   std::unique_ptr<CaptureReader> reader_;
@@ -71,12 +65,7 @@ class ReadAhead final : public CaptureReader {
   std::uint64_t input_size_ = 0;
   std::uint64_t bytes_read_ = 0;
 
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<std::unique_ptr<Batch>> ready_;  // filled, in file order
-  std::vector<std::unique_ptr<Batch>> free_;
-  bool stopping_ = false;
-
+  std::unique_ptr<HandoffQueue<Batch>> queue_;
   std::unique_ptr<Batch> current_;  // being delivered (reading thread never touches it)
   std::size_t next_item_ = 0;
   bool ended_ = false;

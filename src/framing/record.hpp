@@ -2,6 +2,7 @@
 // What the framer emits: a frame (bytes that Modbus framing explains) or a noise record
 // (bytes that it does not). Every input byte ends up in exactly one record. Records own
 // their bytes in fixed storage, so nothing on the per-byte path allocates.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -79,15 +80,38 @@ struct Record {
     device = nullptr;
   }
 
+  // Every field of `other`, and of its storage only the bytes in use (a record handed to
+  // another thread: copying all kMaxAdu bytes of a short frame would cost most of the copy).
+  void copy_in_use(const Record& other) {
+    kind = other.kind;
+    seq = other.seq;
+    t_start = other.t_start;
+    t_end = other.t_end;
+    gap_before = other.gap_before;
+    origin = other.origin;
+    size = other.size;
+    std::copy_n(other.storage.begin(), other.size, storage.begin());
+    line_errors = other.line_errors;
+    shape_fit = other.shape_fit;
+    crc_ok = other.crc_ok;
+    issues = other.issues;
+    role = other.role;
+    txn = other.txn;
+    latency = other.latency;
+    request = other.request;
+    device = other.device;
+  }
+
   [[nodiscard]] std::span<const std::uint8_t> bytes() const { return {storage.data(), size}; }
   [[nodiscard]] std::uint8_t slave() const { return size > 0 ? storage[0] : 0; }
   [[nodiscard]] std::uint8_t function() const { return size > 1 ? storage[1] : 0; }
   [[nodiscard]] bool is_exception() const { return size > 1 && (storage[1] & 0x80U) != 0; }
 };
 
-// A field added to Record must be reset by reset_keeping_storage() too: this fails until the
-// size below is updated, as a reminder.
-static_assert(sizeof(Record) == 360, "new Record field: reset it in reset_keeping_storage()");
+// A field added to Record must be reset by reset_keeping_storage() and copied by copy_in_use()
+// too: this fails until the size below is updated, as a reminder.
+static_assert(sizeof(Record) == 360,
+              "new Record field: reset it in reset_keeping_storage(), copy it in copy_in_use()");
 
 // Receives records in time order.
 class RecordSink {

@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "framing/record.hpp"
+#include "pairing/pairing_input.hpp"
 
 namespace rtu {
 
@@ -23,7 +24,7 @@ struct TrackerConfig {
   Nanos response_timeout = 1000 * kNanosPerMilli;
 };
 
-class TransactionTracker : public RecordSink {
+class TransactionTracker final : public PairingInput {
  public:
   TransactionTracker(const TrackerConfig& config, RecordSink& out);
 
@@ -35,7 +36,7 @@ class TransactionTracker : public RecordSink {
   // (its request has already gone out unmatched); one that comes after the timeout with
   // no advance() between is treated the same, so the verdict never depends on when
   // advance() was called.
-  void advance(Nanos now);
+  void advance(Nanos now) override;
   // A request waits for its answer and advance() may still time it out.
   [[nodiscard]] bool awaits_timeout() const { return awaiting_answer() && !released_; }
   // The first moment advance() would time that request out; kUnknownTime when none waits.

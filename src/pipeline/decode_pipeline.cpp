@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/crc16.hpp"
@@ -22,9 +23,15 @@ constexpr std::size_t kMaxPorts = 8;
 
 struct DecodePipeline::Impl {
   Impl(const PipelineOptions& opts, RecordSink& out)
-      : sink(out),
-        tracker(TrackerConfig{opts.response_timeout}, out),
-        merge(tracker, [this](std::size_t port) { return framers[port]->oldest_pending_start(); }),
+      : own_tracker(std::in_place, TrackerConfig{opts.response_timeout}, out),
+        pairing(*own_tracker),
+        merge(pairing, [this](std::size_t port) { return framers[port]->oldest_pending_start(); }),
+        options(opts) {
+    add_port();
+  }
+  Impl(const PipelineOptions& opts, PairingInput& next)
+      : pairing(next),
+        merge(pairing, [this](std::size_t port) { return framers[port]->oldest_pending_start(); }),
         options(opts) {
     add_port();
   }
@@ -45,8 +52,8 @@ struct DecodePipeline::Impl {
     merge.set_port_count(framers.size());
   }
 
-  RecordSink& sink;
-  TransactionTracker tracker;
+  std::optional<TransactionTracker> own_tracker;  // absent when pairing is handed on
+  PairingInput& pairing;
   PortMerge merge;
   PipelineOptions options;
   std::vector<std::unique_ptr<PortOutput>> outputs;
@@ -80,12 +87,15 @@ struct DecodePipeline::Impl {
 DecodePipeline::DecodePipeline(const PipelineOptions& options, RecordSink& sink)
     : impl_(std::make_unique<Impl>(options, sink)) {}
 
+DecodePipeline::DecodePipeline(const PipelineOptions& options, PairingInput& pairing)
+    : impl_(std::make_unique<Impl>(options, pairing)) {}
+
 DecodePipeline::~DecodePipeline() = default;
 
 void DecodePipeline::start(const CaptureInfo& info) {
   if (impl_->started) return;
   impl_->started = true;
-  impl_->tracker.on_capture(info);
+  impl_->pairing.on_capture(info);
 }
 
 void DecodePipeline::push(const Chunk& chunk) {
@@ -147,7 +157,7 @@ void DecodePipeline::push_frame(std::span<const std::uint8_t> adu, Nanos t_start
   Record& rec = impl_->imported_record(RecordKind::kFrame, adu, t_start, t_end, origin);
   impl_->flag_t35(rec);
   classify_frame(rec);
-  impl_->tracker.on_record(rec);
+  impl_->pairing.on_record(rec);
 }
 
 // A frame record longer than RTU allows cannot be kept as one record, and is rarely one
@@ -186,7 +196,7 @@ void DecodePipeline::Impl::SplitRelay::on_record(Record& rec) {
     if (rec.kind == RecordKind::kFrame) impl.flag_t35(rec);
   }
   impl.last_import_end = rec.t_end;
-  impl.tracker.on_record(rec);
+  impl.pairing.on_record(rec);
 }
 
 // The CRC holds over all the bytes: one frame, only longer than the 256 bytes RTU allows
@@ -204,7 +214,7 @@ void DecodePipeline::Impl::push_too_long_frame(std::span<const std::uint8_t> byt
   classify_frame(rec);
   rec.issues.remove(IssueId::kCrc);
   rec.issues.add(IssueId::kTooLong);
-  tracker.on_record(rec);
+  pairing.on_record(rec);
   push_noise_records(tail, split, t_end, origin);
 }
 
@@ -220,7 +230,7 @@ void DecodePipeline::Impl::push_noise_records(std::span<const std::uint8_t> byte
   while (!bytes.empty()) {
     Record& rec = imported_record(RecordKind::kNoise, bytes, t_start, t_end, origin);
     rec.issues.add(IssueId::kNoiseBytes);
-    tracker.on_record(rec);
+    pairing.on_record(rec);
     bytes = bytes.subspan(rec.size);
   }
 }
@@ -238,15 +248,18 @@ void DecodePipeline::idle(Nanos now) {
   }
   const Nanos oldest = impl_->merge.oldest_pending_start();
   if (oldest != kUnknownTime) decided_until = std::min(decided_until, oldest);
-  impl_->tracker.advance(decided_until);
+  impl_->pairing.advance(decided_until);
 }
 
 bool DecodePipeline::awaits_idle() const {
   if (!impl_->started) return false;
+  // Pairing handed on: whether a request still waits is not known here.
+  if (!impl_->own_tracker) return true;
   for (const auto& framer : impl_->framers) {
     if (framer->oldest_pending_start() != kUnknownTime) return true;
   }
-  return impl_->merge.oldest_pending_start() != kUnknownTime || impl_->tracker.awaits_timeout();
+  return impl_->merge.oldest_pending_start() != kUnknownTime ||
+         impl_->own_tracker->awaits_timeout();
 }
 
 Nanos DecodePipeline::next_idle_decision() const {
@@ -259,8 +272,10 @@ Nanos DecodePipeline::next_idle_decision() const {
     take(framer->decidable_at());
     reach = std::max(reach, framer->unread_reach());
   }
+  // Pairing handed on: when a waiting request times out is not known here.
+  if (!impl_->own_tracker) return kUnknownTime;
   // idle() decides timeouts only up to where unread bytes could start (see idle()).
-  const Nanos timeout = impl_->tracker.timeout_at();
+  const Nanos timeout = impl_->own_tracker->timeout_at();
   if (timeout != kUnknownTime) take(timeout + reach);
   return next;
 }
@@ -268,7 +283,7 @@ Nanos DecodePipeline::next_idle_decision() const {
 void DecodePipeline::finish() {
   for (auto& framer : impl_->framers) framer->finish();
   impl_->merge.flush();
-  impl_->tracker.on_finish();
+  impl_->pairing.on_finish();
 }
 
 }  // namespace rtu

@@ -10,6 +10,7 @@
 #include "core/chunk.hpp"
 #include "framing/capture_info.hpp"
 #include "framing/record.hpp"
+#include "pairing/pairing_input.hpp"
 
 namespace rtu {
 
@@ -26,6 +27,10 @@ struct PipelineOptions {
 class DecodePipeline {
  public:
   DecodePipeline(const PipelineOptions& options, RecordSink& sink);
+  // The framing half alone: records and decided times go to `pairing` (a handoff to a
+  // tracker on another thread) instead of to a tracker of its own. awaits_idle() and
+  // next_idle_decision() then answer as if a request might be waiting.
+  DecodePipeline(const PipelineOptions& options, PairingInput& pairing);
   ~DecodePipeline();
   DecodePipeline(const DecodePipeline&) = delete;
   DecodePipeline& operator=(const DecodePipeline&) = delete;

@@ -15,6 +15,9 @@
 #include "core/input_error.hpp"
 #include "framing/framer.hpp"
 #include "framing/timing_estimator.hpp"
+#include "pairing/transaction_tracker.hpp"
+#include "pipeline/capture_feed.hpp"
+#include "pipeline/framing_ahead.hpp"
 #include "pipeline/line_inference.hpp"
 #include "pipeline/line_warnings.hpp"
 
@@ -38,50 +41,6 @@ class Survey final : public CaptureConsumer {
   TimingEstimator estimator;
   LineCheck line_check;
   std::uint64_t chunks = 0;
-};
-
-// Pass 2: everything into the pipeline, raw reads or frame records (see replay.hpp).
-class Feed final : public CaptureConsumer {
- public:
-  Feed(DecodePipeline& pipeline, const ReplayOptions& options, bool use_chunks, Nanos char_time)
-      : pipeline_(pipeline), options_(options), use_chunks_(use_chunks), char_time_(char_time) {}
-
-  void on_chunk(const Chunk& chunk) override {
-    if (!use_chunks_) return;
-    if (options_.on_chunk) options_.on_chunk(chunk);
-    pipeline_.push(chunk);
-  }
-  void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
-    if (use_chunks_) return;
-    t_start = on_free_line(t_start);
-    line_free_at_ = t_end(adu, t_start);
-    pipeline_.push_frame(adu, t_start, line_free_at_, origin);
-  }
-  void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override {
-    if (use_chunks_) return;
-    t_start = on_free_line(t_start);
-    line_free_at_ = t_end(bytes, t_start);
-    pipeline_.push_noise(bytes, t_start, line_free_at_, origin);
-  }
-  // A live recording ends where the live run stopped: what was pending then (a request
-  // still waiting for its answer) is decided as live decided it.
-  void on_end(Nanos t) override { pipeline_.idle(t); }
-
- private:
-  [[nodiscard]] Nanos t_end(std::span<const std::uint8_t> bytes, Nanos t_start) const {
-    return t_start + static_cast<Nanos>(bytes.size()) * char_time_;
-  }
-  // One line carries one record at a time: a record stamped before the previous one ended
-  // (its time went backwards and was clamped by the reader, or another tool stamped it
-  // late) starts when the line was free, so no latency or gap comes out negative.
-  [[nodiscard]] Nanos on_free_line(Nanos t_start) const {
-    return line_free_at_ != kUnknownTime && t_start < line_free_at_ ? line_free_at_ : t_start;
-  }
-  Nanos line_free_at_ = kUnknownTime;
-  DecodePipeline& pipeline_;
-  const ReplayOptions& options_;
-  bool use_chunks_;
-  Nanos char_time_;
 };
 
 // Frames the first reads of a capture hold at some settings: what confirms inferred ones.
@@ -132,27 +91,38 @@ FrameSample sample_frames(const CaptureOpener& open, const FramerConfig& config)
 // Tells ReplayOptions::on_progress how far one pass over a reader has got.
 class PassProgress {
  public:
-  PassProgress(const CaptureReader& reader, ReplayProgress::Pass pass, const ReplayOptions& options,
-               bool only_pass = false)
-      : reader_(reader), options_(options) {
+  // `bytes_read`: how far the reader has got in its input, asked at each report.
+  PassProgress(std::function<std::uint64_t()> bytes_read, std::uint64_t input_size,
+               ReplayProgress::Pass pass, const ReplayOptions& options, bool only_pass = false)
+      : bytes_read_(std::move(bytes_read)), options_(options) {
     progress_.pass = pass;
     progress_.only_pass = only_pass;
+    progress_.input_size = input_size;
   }
+  PassProgress(const CaptureReader& reader, ReplayProgress::Pass pass, const ReplayOptions& options,
+               bool only_pass = false)
+      : PassProgress([&reader] { return reader.bytes_read(); }, reader.input_size(), pass, options,
+                     only_pass) {}
   // After each record read; only every kProgressEvery-th one costs more than an increment.
   void tick() {
     if (++progress_.records % kProgressEvery == 0) report(false);
+  }
+  // `records` read in all so far (delivered in batches).
+  void reached(std::uint64_t records) {
+    const bool due = records / kProgressEvery != progress_.records / kProgressEvery;
+    progress_.records = records;
+    if (due) report(false);
   }
   void done() { report(true); }
 
  private:
   void report(bool pass_done) {
     if (!options_.on_progress) return;
-    progress_.bytes_read = reader_.bytes_read();
-    progress_.input_size = reader_.input_size();
+    progress_.bytes_read = bytes_read_();
     progress_.pass_done = pass_done;
     options_.on_progress(progress_);
   }
-  const CaptureReader& reader_;
+  std::function<std::uint64_t()> bytes_read_;
   const ReplayOptions& options_;
   ReplayProgress progress_;
 };
@@ -230,19 +200,26 @@ void add_whole_capture_findings(CaptureSurvey& result, const CaptureReader& read
                     options.show_warnings);
 }
 
-// Pass 2 over `reader`, as `survey` says, into `sink`. `only_pass`: no survey pass came first.
-void decode_from(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
+PipelineOptions pipeline_options(const CaptureSurvey& survey, const ReplayOptions& options) {
+  const CaptureInfo& info = survey.info;
+  PipelineOptions result;
+  result.line = info.line;
+  result.response_timeout = info.response_timeout;
+  result.timing_resolution = info.timing_resolution;
+  result.learn_resolution = !options.resolution;
+  result.per_byte_timing = survey.per_byte_exact;
+  return result;
+}
+
+// Pass 2 over `reader`, as `survey` says, into `sink`, all framing and pairing on this thread:
+// a pass that may end early (options.enough) ends at a reader's item. `only_pass`: no survey
+// pass came first.
+void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
                  RecordSink& sink, bool only_pass = false) {
   const CaptureInfo& info = survey.info;
-  PipelineOptions pipeline_options;
-  pipeline_options.line = info.line;
-  pipeline_options.response_timeout = info.response_timeout;
-  pipeline_options.timing_resolution = info.timing_resolution;
-  pipeline_options.learn_resolution = !options.resolution;
-  pipeline_options.per_byte_timing = survey.per_byte_exact;
-  DecodePipeline pipeline(pipeline_options, sink);
+  DecodePipeline pipeline(pipeline_options(survey, options), sink);
   pipeline.start(info);
-  Feed feed(pipeline, options, survey.use_chunks, info.line.char_time());
+  CaptureFeed feed(pipeline, survey.use_chunks, info.line.char_time(), options.on_chunk);
   PassProgress decode_progress(reader, ReplayProgress::Pass::kDecode, options, only_pass);
   try {
     while (reader.read(feed)) {
@@ -256,6 +233,33 @@ void decode_from(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOpt
   }
   decode_progress.done();
   pipeline.finish();
+}
+
+// Pass 2 to the end, as `survey` says, into `sink`: the reading and framing run on the
+// second core (FramingAhead), the pairing and `sink` on this one. `only_pass`: no survey
+// pass came first.
+void decode_pass(FramingAhead& ahead, const CaptureSurvey& /*survey: in ahead's setup*/,
+                 const ReplayOptions& options, RecordSink& sink, bool only_pass = false) {
+  TransactionTracker tracker(TrackerConfig{ahead.setup().info.response_timeout}, sink);
+  PassProgress decode_progress([&ahead] { return ahead.bytes_read(); }, ahead.input_size(),
+                               ReplayProgress::Pass::kDecode, options, only_pass);
+  try {
+    while (ahead.deliver(tracker)) decode_progress.reached(ahead.items_read());
+  } catch (...) {
+    decode_progress.done();
+    throw;
+  }
+  decode_progress.reached(ahead.items_read());
+  decode_progress.done();
+}
+
+FramingAhead::Setup framing_setup(const CaptureSurvey& survey, const ReplayOptions& options) {
+  FramingAhead::Setup setup;
+  setup.pipeline = pipeline_options(survey, options);
+  setup.info = survey.info;
+  setup.use_chunks = survey.use_chunks;
+  setup.on_chunk = options.on_chunk;
+  return setup;
 }
 
 // True when `a` and `b` decode a capture alike.
@@ -337,18 +341,25 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
 
 void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
                     const ReplayOptions& options, RecordSink& sink) {
-  // The reader parses on the second core while this one decodes (same items, same order).
+  // A pass that may end early ends at a reader's item: only the reading is ahead.
+  if (options.frame_ahead && !options.enough) {
+    FramingAhead ahead(open([](std::string_view) {}), framing_setup(survey, options));
+    decode_pass(ahead, survey, options, sink);
+    return;
+  }
   ReadAhead reader(open([](std::string_view) {}));
-  decode_from(reader, survey, options, sink);
+  decode_pass(reader, survey, options, sink);
 }
 
-std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
-                                             const ReplayOptions& options, RecordSink& sink) {
-  HeldWarnings passing;
-  Survey alongside;
-  ReadAhead reader(open(passing.sink()), &alongside);
-  ReplayOptions to_the_end = options;
-  to_the_end.enough = nullptr;
+namespace {
+
+// decode_and_survey() over `reader` (a ReadAhead or FramingAhead with `alongside` on its
+// reading thread).
+template <typename Ahead>
+std::optional<CaptureInfo> decode_with_survey(Ahead& reader, const Survey& alongside,
+                                              HeldWarnings& passing, const CaptureOpener& open,
+                                              CaptureSurvey survey, const ReplayOptions& options,
+                                              RecordSink& sink) {
   // What survey_capture would have said, now that the whole capture was read.
   const auto surveyed = [&] {
     const CaptureReader& source = reader.source();
@@ -361,7 +372,7 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
     add_whole_capture_findings(survey, reader.source(), alongside, open, options);
   };
   try {
-    decode_from(reader, survey, to_the_end, sink, true);
+    decode_pass(reader, survey, options, sink, true);
   } catch (...) {
     // The input's damage: what precedes it was surveyed.
     if (reader.ended() && same_decoding(surveyed(), survey)) conclude();
@@ -370,6 +381,22 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
   if (!same_decoding(surveyed(), survey)) return std::nullopt;
   conclude();
   return survey.info;
+}
+
+}  // namespace
+
+std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
+                                             const ReplayOptions& options, RecordSink& sink) {
+  HeldWarnings passing;
+  Survey alongside;
+  ReplayOptions to_the_end = options;
+  to_the_end.enough = nullptr;
+  if (options.frame_ahead) {
+    FramingAhead reader(open(passing.sink()), framing_setup(survey, options), &alongside);
+    return decode_with_survey(reader, alongside, passing, open, survey, to_the_end, sink);
+  }
+  ReadAhead reader(open(passing.sink()), &alongside);
+  return decode_with_survey(reader, alongside, passing, open, survey, to_the_end, sink);
 }
 
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,

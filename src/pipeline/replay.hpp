@@ -55,6 +55,11 @@ struct ReplayOptions {
   // Asked after every record of the decoding pass, when set: true ends the pass there, as
   // if the capture ended (a bounded sample, such as identification's).
   std::function<bool()> enough;
+  // Which core frames. Framing on the reading thread (FramingAhead) halves the decoding
+  // core's work, which pays where the sink's work is at least the framing's (reports,
+  // decode). An export's sink does little, so it frames on the decoding core and leaves the
+  // reading core to the reader (ReadAhead). The records are the same either way.
+  bool frame_ahead = true;
 };
 
 // Records between two progress calls: a clock read per call stays off the hot path.

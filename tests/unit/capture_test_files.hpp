@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -120,5 +121,18 @@ class AllocationCounter {
   }
   static void on_free(const volatile void* /*ptr*/) {}
 };
+
+// The bundled text and CSV captures (captures/*.hex, *.csv, not the expected outputs), sorted.
+inline std::vector<std::string> bundled_text_captures() {
+  std::vector<std::string> paths;
+  for (const auto& entry : std::filesystem::directory_iterator(RTUSCOPE_SOURCE_DIR "/captures")) {
+    const auto ext = entry.path().extension();
+    const auto name = entry.path().filename().string();
+    if ((ext != ".hex" && ext != ".csv") || name.find(".expected.") != std::string::npos) continue;
+    paths.push_back(entry.path().string());
+  }
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
 
 }  // namespace rtu::testing

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "capture/open_capture.hpp"
+#include "capture_test_files.hpp"
 #include "core/input_error.hpp"
 
 namespace rtu {
@@ -82,16 +83,9 @@ std::string write_long_capture(bool damaged) {
 }
 
 TEST(ReadAhead, DeliversWhatTheReaderDeliversForEveryBundledCapture) {
-  const std::filesystem::path dir = RTUSCOPE_SOURCE_DIR "/captures";
-  std::size_t files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    const auto ext = entry.path().extension();
-    const auto name = entry.path().filename().string();
-    if ((ext != ".hex" && ext != ".csv") || name.find(".expected.") != std::string::npos) continue;
-    expect_same_items(entry.path().string());
-    ++files;
-  }
-  EXPECT_GE(files, 10U);
+  const auto paths = testing::bundled_text_captures();
+  for (const auto& path : paths) expect_same_items(path);
+  EXPECT_GE(paths.size(), 10U);
 }
 
 TEST(ReadAhead, CrossesBatchesAndThrowsTheReadersErrorAfterEverythingBeforeIt) {

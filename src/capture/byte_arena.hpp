@@ -1,0 +1,52 @@
+#pragma once
+// Bytes of many reads (and their line errors) copied into one growing buffer, to be handed
+// to another thread in a batch: one allocation per batch, not one per read. Errors sit at
+// the same positions as their bytes; a run without errors costs no error bytes unless a
+// later run has some.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace rtu {
+
+class ByteArena {
+ public:
+  // Where a run lies in the arena.
+  struct Run {
+    std::size_t at = 0;
+    std::size_t size = 0;
+    bool has_errors = false;
+  };
+
+  Run add(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> errors = {}) {
+    Run run{bytes_.size(), bytes.size(), !errors.empty()};
+    bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
+    if (run.has_errors) {
+      errors_.resize(bytes_.size(), 0);  // earlier runs' places stay zero
+      std::copy(errors.begin(), errors.end(),
+                errors_.begin() + static_cast<std::ptrdiff_t>(run.at));
+    }
+    return run;
+  }
+  [[nodiscard]] std::span<const std::uint8_t> bytes(const Run& run) const {
+    return {bytes_.data() + run.at, run.size};
+  }
+  // Empty for a run added without errors.
+  [[nodiscard]] std::span<const std::uint8_t> errors(const Run& run) const {
+    if (!run.has_errors) return {};
+    return {errors_.data() + run.at, run.size};
+  }
+  [[nodiscard]] std::size_t size() const { return bytes_.size(); }
+  void clear() {
+    bytes_.clear();
+    errors_.clear();
+  }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+  std::vector<std::uint8_t> errors_;
+};
+
+}  // namespace rtu

@@ -1,0 +1,216 @@
+// FramingAhead tells the tracker exactly what a DecodePipeline's own tracker is told, so the
+// records out of the tracker are identical to a single-threaded decoding: for every bundled
+// capture, across batch boundaries, up to and including the reader's error, with raw reads
+// seen at the same points between records. It can be dropped part-way, and a consumer
+// alongside sees every item on the reading thread.
+#include "pipeline/framing_ahead.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "capture/open_capture.hpp"
+#include "capture_test_files.hpp"
+#include "core/input_error.hpp"
+#include "pairing/transaction_tracker.hpp"
+#include "pipeline/capture_feed.hpp"
+
+namespace rtu {
+namespace {
+
+// Writes every call it gets as one line of text: records with all the tracker gave them.
+class Transcript final : public RecordSink, public CaptureConsumer {
+ public:
+  void on_capture(const CaptureInfo& info) override {
+    lines.push_back(fmt::format("capture {} baud={}", info.source, info.line.baud));
+  }
+  void on_record(Record& r) override {
+    lines.push_back(fmt::format(
+        "record kind={} seq={} t={}..{} gap={} origin={} errors={} fit={} crc={} issues={:x} "
+        "role={} txn={} latency={} request={} {:02x}",
+        static_cast<int>(r.kind), r.seq, r.t_start, r.t_end, r.gap_before, r.origin, r.line_errors,
+        r.shape_fit, r.crc_ok, r.issues.bits(), static_cast<int>(r.role), r.txn, r.latency,
+        r.request != nullptr ? r.request->seq : -1ULL, fmt::join(r.bytes(), "")));
+  }
+  void on_finish() override { lines.emplace_back("finish"); }
+  void on_chunk(const Chunk& c) override {
+    lines.push_back(
+        fmt::format("chunk t={} origin={} {:02x}", c.t_end, c.origin, fmt::join(c.bytes, "")));
+  }
+  void on_frame(std::span<const std::uint8_t> adu, Nanos t, std::uint64_t origin) override {
+    lines.push_back(fmt::format("frame t={} origin={} {:02x}", t, origin, fmt::join(adu, "")));
+  }
+  void on_noise(std::span<const std::uint8_t> bytes, Nanos t, std::uint64_t origin) override {
+    lines.push_back(fmt::format("noise t={} origin={} {:02x}", t, origin, fmt::join(bytes, "")));
+  }
+  void on_end(Nanos t) override { lines.push_back(fmt::format("end t={}", t)); }
+  std::vector<std::string> lines;
+};
+
+FramingAhead::Setup setup_for(const CaptureReader& reader, Transcript* chunks) {
+  FramingAhead::Setup setup;
+  setup.info.source = reader.name();
+  if (const auto line = reader.declared_settings()) setup.info.line = *line;
+  setup.info.timing_resolution = 2 * kNanosPerMilli;
+  setup.info.response_timeout = 50 * kNanosPerMilli;  // shorter than the long capture's polls
+  setup.pipeline.line = setup.info.line;
+  setup.pipeline.timing_resolution = setup.info.timing_resolution;
+  setup.pipeline.response_timeout = setup.info.response_timeout;
+  setup.use_chunks = !reader.holds_frames();
+  if (chunks != nullptr) setup.on_chunk = [chunks](const Chunk& c) { chunks->on_chunk(c); };
+  return setup;
+}
+
+// The single-threaded decoding: reader, pipeline and tracker on this thread.
+std::vector<std::string> decoded_directly(const std::string& path, bool with_chunks) {
+  auto reader = open_capture(path, [](std::string_view) {});
+  Transcript out;
+  const auto setup = setup_for(*reader, with_chunks ? &out : nullptr);
+  DecodePipeline pipeline(setup.pipeline, out);
+  pipeline.start(setup.info);
+  CaptureFeed feed(pipeline, setup.use_chunks, setup.info.line.char_time(), setup.on_chunk);
+  try {
+    while (reader->read(feed)) {
+    }
+  } catch (const InputError& e) {
+    pipeline.finish();
+    out.lines.push_back(std::string("error: ") + e.what());
+    return out.lines;
+  }
+  pipeline.finish();
+  return out.lines;
+}
+
+std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks) {
+  auto reader = open_capture(path, [](std::string_view) {});
+  Transcript out;
+  const auto setup = setup_for(*reader, with_chunks ? &out : nullptr);
+  FramingAhead ahead(std::move(reader), setup);
+  EXPECT_EQ(ahead.name(), path);
+  TransactionTracker tracker(TrackerConfig{setup.info.response_timeout}, out);
+  try {
+    while (ahead.deliver(tracker)) {
+    }
+    if (ahead.deliver(tracker)) out.lines.emplace_back("deliver after the end returned true");
+  } catch (const InputError& e) {
+    out.lines.push_back(std::string("error: ") + e.what());
+    if (ahead.deliver(tracker)) out.lines.emplace_back("deliver after the error returned true");
+  }
+  EXPECT_TRUE(ahead.ended());
+  return out.lines;
+}
+
+void expect_same_records(const std::string& path) {
+  SCOPED_TRACE(path);
+  for (const bool with_chunks : {false, true}) {
+    const auto expected = decoded_directly(path, with_chunks);
+    EXPECT_EQ(decoded_ahead(path, with_chunks), expected);
+    EXPECT_GT(expected.size(), 2U);
+  }
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          fmt::format("rtuscope-framing-ahead-{}-{}", ::getpid(), name))
+      .string();
+}
+
+// Polling at 9600 baud, read by read, several batches' worth; with a request that is never
+// answered now and then (its timeout decided by a later read), and ending in a line that is
+// not a capture line when `damaged`.
+std::string write_long_capture(bool damaged) {
+  const std::string path = temp_path(damaged ? "damaged.hex" : "long.hex");
+  std::ofstream out(path);
+  out << "# baud=9600 parity=E stop=1\n";
+  const std::string request = "01 03 00 00 00 01 84 0A";
+  const std::string response = "01 03 02 00 2A 38 5B";
+  const std::size_t polls = 3 * FramingAhead::kBatchSteps + 17;
+  for (std::size_t i = 0; i < polls; ++i) {
+    const std::size_t ms = i * 100;
+    out << fmt::format("{}.{:03d}000 {}\n", ms / 1000, ms % 1000, request);
+    if (i % 7 != 3) out << fmt::format("{}.{:03d}000 {}\n", ms / 1000, ms % 1000 + 30, response);
+  }
+  if (damaged) out << "not a capture line\n";
+  return path;
+}
+
+TEST(FramingAhead, TellsWhatTheTrackerIsToldInOneThreadForEveryBundledCapture) {
+  const auto paths = testing::bundled_text_captures();
+  for (const auto& path : paths) expect_same_records(path);
+  EXPECT_GE(paths.size(), 10U);
+}
+
+TEST(FramingAhead, CrossesBatchesAndThrowsTheReadersErrorAfterEverythingBeforeIt) {
+  for (const bool damaged : {false, true}) {
+    const std::string path = write_long_capture(damaged);
+    expect_same_records(path);
+    const auto lines = decoded_ahead(path, false);
+    EXPECT_EQ(lines.back().rfind("error: ", 0) == 0, damaged) << lines.back();
+    EXPECT_EQ(lines[lines.size() - (damaged ? 2 : 1)], "finish");
+    std::remove(path.c_str());
+  }
+}
+
+TEST(FramingAhead, CanBeDroppedBeforeTheEnd) {
+  const std::string path = write_long_capture(false);
+  for (const int batches : {0, 1, 2}) {
+    auto reader = open_capture(path, [](std::string_view) {});
+    const auto setup = setup_for(*reader, nullptr);
+    FramingAhead ahead(std::move(reader), setup);
+    Transcript out;
+    TransactionTracker tracker(TrackerConfig{setup.info.response_timeout}, out);
+    for (int i = 0; i < batches; ++i) ASSERT_TRUE(ahead.deliver(tracker));
+    EXPECT_EQ(out.lines.empty(), batches == 0);
+    EXPECT_FALSE(ahead.ended());
+  }  // the destructor stops the reading thread, which may be waiting for a free batch
+  std::remove(path.c_str());
+}
+
+// A consumer alongside sees every item, as a direct read gives them (on the reading thread),
+// and the reader answers for the whole capture once reading ended: never before.
+TEST(FramingAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEnd) {
+  for (const bool damaged : {false, true}) {
+    const std::string path = write_long_capture(damaged);
+    Transcript expected;
+    auto direct = open_capture(path, [](std::string_view) {});
+    try {
+      while (direct->read(expected)) {
+      }
+    } catch (const InputError&) {
+      // The consumer alongside does not see read() throw: only the items.
+    }
+    auto reader = open_capture(path, [](std::string_view) {});
+    const auto setup = setup_for(*reader, nullptr);
+    Transcript alongside;
+    FramingAhead ahead(std::move(reader), setup, &alongside);
+    Transcript out;
+    TransactionTracker tracker(TrackerConfig{setup.info.response_timeout}, out);
+    ASSERT_TRUE(ahead.deliver(tracker));
+    EXPECT_FALSE(ahead.ended());
+    EXPECT_THROW((void)ahead.source(), std::logic_error);
+    try {
+      while (ahead.deliver(tracker)) {
+      }
+      EXPECT_FALSE(damaged);
+    } catch (const InputError&) {
+      EXPECT_TRUE(damaged);
+    }
+    EXPECT_TRUE(ahead.ended());
+    EXPECT_EQ(alongside.lines, expected.lines);
+    const CaptureReader& source = ahead.source();
+    ASSERT_TRUE(source.declared_settings().has_value());
+    EXPECT_EQ(source.declared_settings()->baud, 9600U);
+    EXPECT_EQ(source.bytes_read(), ahead.bytes_read());
+    EXPECT_GT(ahead.items_read(), 3 * FramingAhead::kBatchSteps);
+    std::remove(path.c_str());
+  }
+}
+
+}  // namespace
+}  // namespace rtu

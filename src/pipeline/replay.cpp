@@ -314,6 +314,7 @@ CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& opt
   CaptureSurvey result = decoding_settings(*first, survey.chunks > 0 || !first->holds_frames(),
                                            survey.estimator, options);
   add_whole_capture_findings(result, *first, survey, open, options);
+  result.single_byte_reads = result.info.per_byte_timing;
   return result;
 }
 
@@ -334,16 +335,31 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
   // Declarations are final once made (the first one wins); one made only later in the
   // capture (an undeclared timeout) is caught by decode_and_survey.
   if (!reader->declared_settings()) return std::nullopt;
-  if (!reader->declared_resolution() && !options.resolution) return std::nullopt;
   if (wants_inference(options.overrides, true)) return std::nullopt;
-  return decoding_settings(*reader, true, TimingEstimator{}, options);
+  if (!reader->declared_resolution() && !options.resolution) {
+    try {
+      while (start.chunks < kSampleReads && reader->read(start)) {
+      }
+    } catch (const InputError&) {
+      return std::nullopt;
+    }
+    // Batched reads show their delivery period only over the whole capture.
+    if (!start.estimator.mostly_single_bytes()) return std::nullopt;
+  }
+  CaptureSurvey result = decoding_settings(*reader, true, start.estimator, options);
+  result.single_byte_reads = start.estimator.mostly_single_bytes();
+  return result;
 }
 
 void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
                     const ReplayOptions& options, RecordSink& sink) {
   // A pass that may end early ends at a reader's item: only the reading is ahead.
   if (options.frame_ahead && !options.enough) {
-    FramingAhead ahead(open([](std::string_view) {}), framing_setup(survey, options));
+    auto reader = open([](std::string_view) {});
+    // One read per byte: parsing costs as much as framing, so each gets a thread of its own
+    // and the pairing a third, which two cores share more evenly than two threads.
+    if (survey.single_byte_reads) reader = std::make_unique<ReadAhead>(std::move(reader));
+    FramingAhead ahead(std::move(reader), framing_setup(survey, options));
     decode_pass(ahead, survey, options, sink);
     return;
   }
@@ -353,23 +369,23 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
 
 namespace {
 
-// decode_and_survey() over `reader` (a ReadAhead or FramingAhead with `alongside` on its
-// reading thread).
-template <typename Ahead>
-std::optional<CaptureInfo> decode_with_survey(Ahead& reader, const Survey& alongside,
-                                              HeldWarnings& passing, const CaptureOpener& open,
-                                              CaptureSurvey survey, const ReplayOptions& options,
-                                              RecordSink& sink) {
+// decode_and_survey() over `reader` (a ReadAhead or FramingAhead), with `alongside` on a
+// reading thread; `source()` gives the capture's reader once reading ended.
+template <typename Ahead, typename Source>
+std::optional<CaptureInfo> decode_with_survey(Ahead& reader, const Source& source,
+                                              const Survey& alongside, HeldWarnings& passing,
+                                              const CaptureOpener& open, CaptureSurvey survey,
+                                              const ReplayOptions& options, RecordSink& sink) {
   // What survey_capture would have said, now that the whole capture was read.
   const auto surveyed = [&] {
-    const CaptureReader& source = reader.source();
-    return decoding_settings(source, alongside.chunks > 0 || !source.holds_frames(),
+    const CaptureReader& whole = source();
+    return decoding_settings(whole, alongside.chunks > 0 || !whole.holds_frames(),
                              alongside.estimator, options);
   };
   // Shown as survey_capture shows them: the passing warnings, then the whole capture's.
   const auto conclude = [&] {
     if (options.show_warnings) passing.show();
-    add_whole_capture_findings(survey, reader.source(), alongside, open, options);
+    add_whole_capture_findings(survey, source(), alongside, open, options);
   };
   try {
     decode_pass(reader, survey, options, sink, true);
@@ -391,12 +407,26 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
   Survey alongside;
   ReplayOptions to_the_end = options;
   to_the_end.enough = nullptr;
-  if (options.frame_ahead) {
-    FramingAhead reader(open(passing.sink()), framing_setup(survey, options), &alongside);
-    return decode_with_survey(reader, alongside, passing, open, survey, to_the_end, sink);
+  if (!options.frame_ahead) {
+    ReadAhead reader(open(passing.sink()), &alongside);
+    const auto source = [&reader]() -> const CaptureReader& { return reader.source(); };
+    return decode_with_survey(reader, source, alongside, passing, open, survey, to_the_end, sink);
   }
-  ReadAhead reader(open(passing.sink()), &alongside);
-  return decode_with_survey(reader, alongside, passing, open, survey, to_the_end, sink);
+  if (!survey.single_byte_reads) {
+    FramingAhead reader(open(passing.sink()), framing_setup(survey, options), &alongside);
+    const auto source = [&reader]() -> const CaptureReader& { return reader.source(); };
+    return decode_with_survey(reader, source, alongside, passing, open, survey, to_the_end, sink);
+  }
+  // One read per byte: parsing (with the survey) and framing get a thread each, as in
+  // decode_capture.
+  auto parsing = std::make_unique<ReadAhead>(open(passing.sink()), &alongside);
+  ReadAhead& parser = *parsing;
+  FramingAhead reader(std::move(parsing), framing_setup(survey, options));
+  const auto source = [&reader, &parser]() -> const CaptureReader& {
+    (void)reader.source();  // joins the framing thread, the parser's only user
+    return parser.source();
+  };
+  return decode_with_survey(reader, source, alongside, passing, open, survey, to_the_end, sink);
 }
 
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,

@@ -73,6 +73,9 @@ struct CaptureSurvey {
   CaptureInfo info;
   bool use_chunks = true;       // raw reads are re-framed (else frame records are decoded)
   bool per_byte_exact = false;  // a logic analyser's per-byte timing
+  // The reads hold one byte each (in the survey, or in declared_survey's sample): parsing
+  // them costs about as much as framing them, so each gets a thread of its own.
+  bool single_byte_reads = false;
 };
 
 // Pass 1 alone: reads the whole capture once, shows its reader warnings (when asked) and
@@ -86,9 +89,13 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
 
 // Pass 1 without the pass, where the capture declares all that decoding needs (a live
 // recording or `export --raw` declares line settings, resolution and response timeout) and
-// its first items are raw reads: how to decode it, from a look at its start. What only the
-// whole capture shows (warnings, per_byte_timing) is missing: decode_and_survey learns it
-// while decoding. nullopt where the full survey_capture is needed.
+// its first items are raw reads: how to decode it, from a look at its start. A capture that
+// declares its line settings but not its resolution qualifies when its first reads hold one
+// byte each (a per-byte text capture): the resolution is then the timestamps' own
+// precision, estimated from a sample as the survey estimates it from the whole capture.
+// What only the whole capture shows (warnings, per_byte_timing, whether the estimate holds)
+// is missing: decode_and_survey learns it while decoding. nullopt where the full
+// survey_capture is needed.
 std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
                                              const ReplayOptions& options);
 

@@ -8,6 +8,12 @@ the survey pass comes first as for any capture. For every bundled capture, its r
 reported both ways: standard output, standard error and the exit status must be identical.
 A two-section file whose second section declares a response timeout the first does not is
 decoded again after the survey, and must say that timeout.
+
+A text capture that declares its line settings but not its resolution is reported in one pass
+too when its first reads hold one byte each (the resolution is then estimated from a sample):
+the bundled text captures are reported both ways as well, and so is a capture whose single-byte
+start is followed by batched reads, where the whole capture says otherwise than the sample and
+the one-pass decoding must be redone after the survey.
 """
 import glob
 import json
@@ -57,6 +63,32 @@ def main():
                 if status != 0 or not out:
                     fail(f"report {native} exited {status} with {len(out)} bytes")
                 compared += 1
+        for capture in captures:
+            status, out, _ = report_both_ways(rtuscope, capture, work, ["--format", "json"])
+            if status != 0 or not out:
+                fail(f"report {capture} exited {status} with {len(out)} bytes")
+            compared += 1
+        # Single bytes for longer than the sample, then batched reads (the same polls at
+        # 9600 baud, 8 and 7 bytes a read): over the whole capture, not mostly single bytes.
+        turning = os.path.join(work, "single-then-batched.hex")
+        with open(turning, "w", encoding="ascii") as out:
+            out.write("# baud=9600 parity=E stop=1\n")
+            request, response = "01 03 00 00 00 01 84 0A".split(), "01 03 02 00 2A 39 9B".split()
+            t = 0.0
+            for poll in range(3000):
+                for frame in (request, response):
+                    if poll < 1500:
+                        for byte in frame:
+                            t += 0.00115
+                            out.write(f"{t:.6f} {byte}\n")
+                    else:
+                        t += 0.00115 * len(frame)
+                        out.write(f"{t:.6f} {' '.join(frame)}\n")
+                    t += 0.01
+        status, out, _ = report_both_ways(rtuscope, turning, work, ["--format", "json"])
+        if status != 0 or json.loads(out)["capture"]["per_byte_timing"]:
+            fail(f"single-then-batched report exited {status} or says per-byte timing")
+        compared += 1
         # The timeout comes only with the second section.
         live = os.path.join(source_dir, "captures/regressions/fuzz/pcap/seed-reads-250-live.pcapng")
         joined = os.path.join(work, "two-sections.pcapng")

@@ -129,7 +129,7 @@ std::string write_long_capture(bool damaged) {
   std::ofstream out(path);
   out << "# baud=9600 parity=E stop=1\n";
   const std::string request = "01 03 00 00 00 01 84 0A";
-  const std::string response = "01 03 02 00 2A 38 5B";
+  const std::string response = "01 03 02 00 2A 39 9B";
   const std::size_t polls = 3 * FramingAhead::kBatchSteps + 17;
   for (std::size_t i = 0; i < polls; ++i) {
     const std::size_t ms = i * 100;

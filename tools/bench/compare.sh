@@ -7,8 +7,8 @@
 # one byte per line (a logic analyser's view) and in USB adapter reads. From the USB capture
 # rtuscope writes its native pcapng (raw reads of 1-62 bytes plus the decoded frames, as
 # `export --raw` and live recordings hold them) and a classic pcap of LINKTYPE 252 frames for
-# tshark. Then each command runs once, timed, and a Markdown table gives wall time, frames
-# per second, the ratio to tshark and peak RSS. tshark runs with its default preferences (its
+# tshark. Then each command runs RUNS times (default 3), and a Markdown table gives the least
+# wall time, frames per second, the ratio to tshark and the largest peak RSS. tshark runs with its default preferences (its
 # fastest: CRC checking off). Use a Release build (cmake --preset release).
 # The captures stay in WORK_DIR (default: a new temporary folder, removed at the end).
 set -euo pipefail
@@ -40,15 +40,25 @@ echo "Making captures of $frames frames in $work ..." >&2
 count=$("$rtuscope" report "$work/usb.hex" --format json --no-identify -q |
   python3 -c 'import json,sys; print(json.load(sys.stdin)["totals"]["frames"])')
 
-# run LABEL INPUT COMMAND...: prints "label|input|wall|rss_kb".
+# The captures just written are still being flushed to disk: let that not slow the first runs.
+sync
+
+# run LABEL INPUT COMMAND...: prints "label|input|wall|rss_kb", the least wall time and the
+# largest peak RSS of RUNS runs (default 3): one run alone is at the mercy of whatever else
+# the machine does.
 run() {
-  local label=$1 input=$2
+  local label=$1 input=$2 best="" rss=0 i wall kb
   shift 2
-  /usr/bin/time -o "$work/time.txt" -f "%e %M" "$@" >/dev/null 2>"$work/stderr.txt" || {
-    echo "compare.sh: $* failed: $(tail -3 "$work/stderr.txt")" >&2
-    exit 1
-  }
-  echo "$label|$input|$(tail -1 "$work/time.txt")"
+  for ((i = 0; i < ${RUNS:-3}; i++)); do
+    /usr/bin/time -o "$work/time.txt" -f "%e %M" "$@" >/dev/null 2>"$work/stderr.txt" || {
+      echo "compare.sh: $* failed: $(tail -3 "$work/stderr.txt")" >&2
+      exit 1
+    }
+    read -r wall kb < <(tail -1 "$work/time.txt")
+    if [[ -z $best ]] || python3 -c "import sys; sys.exit(not $wall < $best)"; then best=$wall; fi
+    ((kb > rss)) && rss=$kb
+  done
+  echo "$label|$input|$best $rss"
 }
 
 results=()

@@ -1,28 +1,69 @@
 // Fuzz target for the text hex reader (capture/text_hex_reader.hpp): the input is the file.
-// Oracles (capture_checks.hpp): chunks of at least one byte, line numbers as origins, times
-// never going backwards (the reader clamps them), and an end or an InputError naming a line;
-// also, what it declares from "# baud=..." comments is a usable line.
+// Oracles:
+// - the reader (capture_checks.hpp): chunks of at least one byte, line numbers as origins,
+//   times never going backwards (the reader clamps them), and an end or an InputError naming
+//   a line; also, what it declares from "# baud=..." comments is a usable line;
+// - the replay (replay_capture, two passes): every byte read leaves in exactly one record,
+//   and damage ends it with an InputError naming a line;
+// - one read for a file that declares its line settings (one_read_oracle.hpp), as `report`
+//   and `export` read a per-byte text capture with a "# baud=..." line.
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <memory>
+#include <optional>
+#include <string>
 #include <string_view>
 
 #include "capture/text_hex_reader.hpp"
 #include "capture_checks.hpp"
+#include "core/input_error.hpp"
 #include "fuzz_input_file.hpp"
+#include "fuzz_oracle.hpp"
+#include "one_read_oracle.hpp"
+#include "pipeline/replay.hpp"
+
+namespace {
+
+constexpr std::string_view kTarget = "fuzz_text_hex";
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   auto& file = rtu::fuzz::fuzz_input_file();
   file.write(data, size);
+  const std::string& path = file.path();
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
   rtu::fuzz::CaptureRules rules;
-  rules.target = "fuzz_text_hex";
-  rules.text = std::string_view(reinterpret_cast<const char*>(data), size);
+  rules.target = kTarget;
+  rules.text = text;
   rules.times_in_order = true;
   rules.origins_are_lines = true;
-  (void)rtu::fuzz::read_and_check(
-      [&file](rtu::WarningSink warnings) {
-        return std::make_unique<rtu::TextHexReader>(file.path(), std::move(warnings));
-      },
-      file.path(), rules);
+  const rtu::CaptureOpener open = [&path](rtu::WarningSink warnings) {
+    return std::make_unique<rtu::TextHexReader>(path, std::move(warnings));
+  };
+  const rtu::fuzz::CaptureRead read = rtu::fuzz::read_and_check(open, path, rules);
+
+  rtu::ReplayOptions options;
+  options.show_warnings = false;
+  rtu::fuzz::RecordTranscript sink(kTarget);
+  std::optional<rtu::CaptureInfo> surveyed_info;
+  try {
+    surveyed_info = rtu::replay_capture(open, options, sink);
+  } catch (const rtu::InputError& e) {
+    rtu::fuzz::require_line(kTarget, e.what(), path, rtu::fuzz::count_lines(text));
+  } catch (const std::exception& e) {
+    rtu::fuzz::fail(kTarget, "replay threw something other than InputError", e.what());
+  }
+  if (!surveyed_info != read.failed) {
+    rtu::fuzz::fail(kTarget, "the replay and the reader disagree on the damage", "");
+  }
+  std::size_t bytes_read = 0;
+  for (const auto& item : read.items) bytes_read += item.bytes.size();
+  if (sink.bytes != bytes_read) {
+    rtu::fuzz::fail(kTarget, "bytes lost or duplicated between the reader and the records",
+                    std::to_string(sink.bytes) + " of " + std::to_string(bytes_read));
+  }
+  rtu::fuzz::check_one_read(kTarget, open, options, sink, surveyed_info);
   return 0;
 }

@@ -62,8 +62,9 @@ def cut_map(path: pathlib.Path, points_per_space: int = 3) -> str:
 
 
 def text_seeds() -> None:
+    # bus_9600_perbyte: declared settings and one byte a line, read once by `report`.
     for name in ["device_examples", "bus_9600_usb", "bus_19200_faults_usb", "sim_yakotec",
-                 "wrong_baud_19200_as_9600"]:
+                 "wrong_baud_19200_as_9600", "bus_9600_perbyte"]:
         write("text_hex", name + ".hex", first_lines(ROOT / f"captures/{name}.hex", 1500))
     for name in ["device_examples_saleae_legacy", "device_examples_saleae_table",
                  "sigrok_wizmodbus_rxtx", "sigrok_flowmeter_0lpm"]:

@@ -215,7 +215,7 @@ PipelineOptions pipeline_options(const CaptureSurvey& survey, const ReplayOption
 // a pass that may end early (options.enough) ends at a reader's item. `only_pass`: no survey
 // pass came first.
 void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
-                 RecordSink& sink, bool only_pass = false) {
+                 RecordSink& sink, bool only_pass) {
   const CaptureInfo& info = survey.info;
   DecodePipeline pipeline(pipeline_options(survey, options), sink);
   pipeline.start(info);
@@ -238,8 +238,8 @@ void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOpt
 // Pass 2 to the end, as `survey` says, into `sink`: the reading and framing run on the
 // second core (FramingAhead), the pairing and `sink` on this one. `only_pass`: no survey
 // pass came first.
-void decode_pass(FramingAhead& ahead, const CaptureSurvey& /*survey: in ahead's setup*/,
-                 const ReplayOptions& options, RecordSink& sink, bool only_pass = false) {
+void decode_pass(FramingAhead& ahead, const ReplayOptions& options, RecordSink& sink,
+                 bool only_pass) {
   TransactionTracker tracker(TrackerConfig{ahead.setup().info.response_timeout}, sink);
   PassProgress decode_progress([&ahead] { return ahead.bytes_read(); }, ahead.input_size(),
                                ReplayProgress::Pass::kDecode, options, only_pass);
@@ -261,6 +261,56 @@ FramingAhead::Setup framing_setup(const CaptureSurvey& survey, const ReplayOptio
   setup.on_chunk = options.on_chunk;
   return setup;
 }
+
+// How one decoding pass is laid over the threads. Framing runs on the reading thread
+// (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead) or the
+// pass may end early (options.enough: it then ends at a reader's item, which only a ReadAhead
+// can tell). Where reads hold one byte each, parsing costs as much as framing: the reader
+// then runs in a ReadAhead of its own inside the FramingAhead. `alongside` (optional) sees
+// every item on the parsing thread.
+class DecodingRun {
+ public:
+  DecodingRun(std::unique_ptr<CaptureReader> reader, const CaptureSurvey& survey,
+              const ReplayOptions& options, CaptureConsumer* alongside)
+      : survey_(survey), options_(options) {
+    if (!options.frame_ahead || options.enough) {
+      parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
+      return;
+    }
+    if (survey.single_byte_reads) {
+      parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
+      alongside = nullptr;
+    }
+    // The parser, when there is one, is owned by the framing from here on.
+    parser_in_framing_ = parser_.get();
+    framing_ = std::make_unique<FramingAhead>(parser_ ? std::move(parser_) : std::move(reader),
+                                              framing_setup(survey, options), alongside);
+  }
+
+  // The whole pass into `sink`. `only_pass`: no survey pass came first.
+  void decode(RecordSink& sink, bool only_pass) {
+    if (framing_) {
+      decode_pass(*framing_, options_, sink, only_pass);
+    } else {
+      decode_pass(*parser_, survey_, options_, sink, only_pass);
+    }
+  }
+  // Reading has ended (the pass ran to the end, or the reader threw).
+  [[nodiscard]] bool ended() const { return framing_ ? framing_->ended() : parser_->ended(); }
+  // The capture's reader, for what it learned; only once ended().
+  const CaptureReader& source() {
+    if (!framing_) return parser_->source();
+    const CaptureReader& framed = framing_->source();  // joins the framing thread
+    return parser_in_framing_ != nullptr ? parser_in_framing_->source() : framed;
+  }
+
+ private:
+  const CaptureSurvey& survey_;
+  const ReplayOptions& options_;
+  std::unique_ptr<ReadAhead> parser_;       // when framing runs on this thread
+  ReadAhead* parser_in_framing_ = nullptr;  // the one inside framing_, if any
+  std::unique_ptr<FramingAhead> framing_;
+};
 
 // True when `a` and `b` decode a capture alike.
 bool same_decoding(const CaptureSurvey& a, const CaptureSurvey& b) {
@@ -353,53 +403,9 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
 
 void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
                     const ReplayOptions& options, RecordSink& sink) {
-  // A pass that may end early ends at a reader's item: only the reading is ahead.
-  if (options.frame_ahead && !options.enough) {
-    auto reader = open([](std::string_view) {});
-    // One read per byte: parsing costs as much as framing, so each gets a thread of its own
-    // and the pairing a third, which two cores share more evenly than two threads.
-    if (survey.single_byte_reads) reader = std::make_unique<ReadAhead>(std::move(reader));
-    FramingAhead ahead(std::move(reader), framing_setup(survey, options));
-    decode_pass(ahead, survey, options, sink);
-    return;
-  }
-  ReadAhead reader(open([](std::string_view) {}));
-  decode_pass(reader, survey, options, sink);
+  DecodingRun run(open([](std::string_view) {}), survey, options, nullptr);
+  run.decode(sink, false);
 }
-
-namespace {
-
-// decode_and_survey() over `reader` (a ReadAhead or FramingAhead), with `alongside` on a
-// reading thread; `source()` gives the capture's reader once reading ended.
-template <typename Ahead, typename Source>
-std::optional<CaptureInfo> decode_with_survey(Ahead& reader, const Source& source,
-                                              const Survey& alongside, HeldWarnings& passing,
-                                              const CaptureOpener& open, CaptureSurvey survey,
-                                              const ReplayOptions& options, RecordSink& sink) {
-  // What survey_capture would have said, now that the whole capture was read.
-  const auto surveyed = [&] {
-    const CaptureReader& whole = source();
-    return decoding_settings(whole, alongside.chunks > 0 || !whole.holds_frames(),
-                             alongside.estimator, options);
-  };
-  // Shown as survey_capture shows them: the passing warnings, then the whole capture's.
-  const auto conclude = [&] {
-    if (options.show_warnings) passing.show();
-    add_whole_capture_findings(survey, source(), alongside, open, options);
-  };
-  try {
-    decode_pass(reader, survey, options, sink, true);
-  } catch (...) {
-    // The input's damage: what precedes it was surveyed.
-    if (reader.ended() && same_decoding(surveyed(), survey)) conclude();
-    throw;
-  }
-  if (!same_decoding(surveyed(), survey)) return std::nullopt;
-  conclude();
-  return survey.info;
-}
-
-}  // namespace
 
 std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
                                              const ReplayOptions& options, RecordSink& sink) {
@@ -407,26 +413,28 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
   Survey alongside;
   ReplayOptions to_the_end = options;
   to_the_end.enough = nullptr;
-  if (!options.frame_ahead) {
-    ReadAhead reader(open(passing.sink()), &alongside);
-    const auto source = [&reader]() -> const CaptureReader& { return reader.source(); };
-    return decode_with_survey(reader, source, alongside, passing, open, survey, to_the_end, sink);
-  }
-  if (!survey.single_byte_reads) {
-    FramingAhead reader(open(passing.sink()), framing_setup(survey, options), &alongside);
-    const auto source = [&reader]() -> const CaptureReader& { return reader.source(); };
-    return decode_with_survey(reader, source, alongside, passing, open, survey, to_the_end, sink);
-  }
-  // One read per byte: parsing (with the survey) and framing get a thread each, as in
-  // decode_capture.
-  auto parsing = std::make_unique<ReadAhead>(open(passing.sink()), &alongside);
-  ReadAhead& parser = *parsing;
-  FramingAhead reader(std::move(parsing), framing_setup(survey, options));
-  const auto source = [&reader, &parser]() -> const CaptureReader& {
-    (void)reader.source();  // joins the framing thread, the parser's only user
-    return parser.source();
+  DecodingRun run(open(passing.sink()), survey, to_the_end, &alongside);
+  // What survey_capture would have said, now that the whole capture was read.
+  const auto surveyed = [&] {
+    const CaptureReader& source = run.source();
+    return decoding_settings(source, alongside.chunks > 0 || !source.holds_frames(),
+                             alongside.estimator, options);
   };
-  return decode_with_survey(reader, source, alongside, passing, open, survey, to_the_end, sink);
+  // Shown as survey_capture shows them: the passing warnings, then the whole capture's.
+  const auto conclude = [&] {
+    if (options.show_warnings) passing.show();
+    add_whole_capture_findings(survey, run.source(), alongside, open, options);
+  };
+  try {
+    run.decode(sink, true);
+  } catch (...) {
+    // The input's damage: what precedes it was surveyed.
+    if (run.ended() && same_decoding(surveyed(), survey)) conclude();
+    throw;
+  }
+  if (!same_decoding(surveyed(), survey)) return std::nullopt;
+  conclude();
+  return survey.info;
 }
 
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,

@@ -8,9 +8,6 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -115,29 +112,21 @@ void expect_same_records(const std::string& path) {
   }
 }
 
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          fmt::format("rtuscope-framing-ahead-{}-{}", ::getpid(), name))
-      .string();
-}
-
 // Polling at 9600 baud, read by read, several batches' worth; with a request that is never
 // answered now and then (its timeout decided by a later read), and ending in a line that is
 // not a capture line when `damaged`.
-std::string write_long_capture(bool damaged) {
-  const std::string path = temp_path(damaged ? "damaged.hex" : "long.hex");
-  std::ofstream out(path);
-  out << "# baud=9600 parity=E stop=1\n";
+std::string write_long_capture(const testing::TempDir& dir, bool damaged) {
+  std::string text = "# baud=9600 parity=E stop=1\n";
   const std::string request = "01 03 00 00 00 01 84 0A";
   const std::string response = "01 03 02 00 2A 39 9B";
   const std::size_t polls = 3 * FramingAhead::kBatchSteps + 17;
   for (std::size_t i = 0; i < polls; ++i) {
     const std::size_t ms = i * 100;
-    out << fmt::format("{}.{:03d}000 {}\n", ms / 1000, ms % 1000, request);
-    if (i % 7 != 3) out << fmt::format("{}.{:03d}000 {}\n", ms / 1000, ms % 1000 + 30, response);
+    text += fmt::format("{}.{:03d}000 {}\n", ms / 1000, ms % 1000, request);
+    if (i % 7 != 3) text += fmt::format("{}.{:03d}000 {}\n", ms / 1000, ms % 1000 + 30, response);
   }
-  if (damaged) out << "not a capture line\n";
-  return path;
+  if (damaged) text += "not a capture line\n";
+  return dir.write(damaged ? "damaged.hex" : "long.hex", text);
 }
 
 TEST(FramingAhead, TellsWhatTheTrackerIsToldInOneThreadForEveryBundledCapture) {
@@ -147,18 +136,19 @@ TEST(FramingAhead, TellsWhatTheTrackerIsToldInOneThreadForEveryBundledCapture) {
 }
 
 TEST(FramingAhead, CrossesBatchesAndThrowsTheReadersErrorAfterEverythingBeforeIt) {
+  const testing::TempDir dir;
   for (const bool damaged : {false, true}) {
-    const std::string path = write_long_capture(damaged);
+    const std::string path = write_long_capture(dir, damaged);
     expect_same_records(path);
     const auto lines = decoded_ahead(path, false);
     EXPECT_EQ(lines.back().rfind("error: ", 0) == 0, damaged) << lines.back();
     EXPECT_EQ(lines[lines.size() - (damaged ? 2 : 1)], "finish");
-    std::remove(path.c_str());
   }
 }
 
 TEST(FramingAhead, CanBeDroppedBeforeTheEnd) {
-  const std::string path = write_long_capture(false);
+  const testing::TempDir dir;
+  const std::string path = write_long_capture(dir, false);
   for (const int batches : {0, 1, 2}) {
     auto reader = open_capture(path, [](std::string_view) {});
     const auto setup = setup_for(*reader, nullptr);
@@ -169,14 +159,14 @@ TEST(FramingAhead, CanBeDroppedBeforeTheEnd) {
     EXPECT_EQ(out.lines.empty(), batches == 0);
     EXPECT_FALSE(ahead.ended());
   }  // the destructor stops the reading thread, which may be waiting for a free batch
-  std::remove(path.c_str());
 }
 
 // A consumer alongside sees every item, as a direct read gives them (on the reading thread),
 // and the reader answers for the whole capture once reading ended: never before.
 TEST(FramingAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEnd) {
+  const testing::TempDir dir;
   for (const bool damaged : {false, true}) {
-    const std::string path = write_long_capture(damaged);
+    const std::string path = write_long_capture(dir, damaged);
     Transcript expected;
     auto direct = open_capture(path, [](std::string_view) {});
     try {
@@ -208,7 +198,6 @@ TEST(FramingAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEn
     EXPECT_EQ(source.declared_settings()->baud, 9600U);
     EXPECT_EQ(source.bytes_read(), ahead.bytes_read());
     EXPECT_GT(ahead.items_read(), 3 * FramingAhead::kBatchSteps);
-    std::remove(path.c_str());
   }
 }
 

@@ -1,6 +1,7 @@
 // Throughput of the hot stages one at a time, so that an optimisation's gain can be measured
 // before and after on the stage it touches: time parsing, CRC, text hex reading, PDU
-// decoding, the device stage with the report's statistics, and JSON writing.
+// decoding, the statistics' histograms, the device stage with the report's statistics, and JSON
+// writing.
 // Run: build/tools/bench/rtuscope_bench --benchmark_filter=Stage
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -21,6 +22,7 @@
 #include "dissect/device_table.hpp"
 #include "modbus/pdu.hpp"
 #include "pipeline/decode_pipeline.hpp"
+#include "report/log_histogram.hpp"
 #include "report/traffic_stats.hpp"
 
 namespace rtu {
@@ -125,6 +127,23 @@ void BM_StageReportPass(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * 4000);
 }
 
+// The latency and period histograms the statistics add to several times per transaction:
+// values spread like a bus's (microseconds to seconds).
+void BM_StageLogHistogram(benchmark::State& state) {
+  std::vector<Nanos> values;
+  Nanos v = 7919;
+  for (int i = 0; i < 4096; ++i) {
+    v = (v * 48271) % 2'147'483'647;
+    values.push_back(v % (kNanosPerSecond / (1 + i % 1000)));
+  }
+  LogHistogram histogram;
+  for (auto _ : state) {
+    for (const Nanos x : values) histogram.add(x);
+  }
+  benchmark::DoNotOptimize(histogram.count());
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(values.size()));
+}
+
 void BM_StageJsonWriter(benchmark::State& state) {
   fmt::memory_buffer out;
   const std::vector<std::uint8_t> adu = {0x01, 0x03, 0x06, 0xEA, 0x60, 0xC3, 0x50, 0xDB, 0x12};
@@ -151,6 +170,7 @@ BENCHMARK(BM_StageCrc16)->Arg(8)->Arg(256);
 BENCHMARK(BM_StageTextHexReader)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageDecodePdu);
 BENCHMARK(BM_StageReportPass)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageLogHistogram);
 BENCHMARK(BM_StageJsonWriter);
 
 }  // namespace

@@ -164,6 +164,14 @@ std::map<RequestKind, RequestKindStats>::iterator TrafficStats::find_kind(const 
   return hit == kind_index_.end() ? kinds_.end() : hit->second;
 }
 
+std::map<RequestKind, RequestKindStats>::iterator TrafficStats::kind_of_answered(
+    const Record& request) {
+  if (request.seq == last_request_.seq && request.t_start == last_request_.t_start) {
+    return last_request_.kind;
+  }
+  return find_kind(kind_of(request));
+}
+
 void TrafficStats::on_record(Record& r) {
   ++totals_.records;
   if (totals_.first_t == kUnknownTime) {
@@ -296,6 +304,7 @@ void TrafficStats::count_request(const Record& r) {
   } else {
     it->second.period.add(r.t_start - it->second.last_t);
   }
+  last_request_ = CountedRequest{r.seq, r.t_start, it};
   RequestKindStats& k = it->second;
   ++k.count;
   k.last_t = r.t_start;
@@ -381,7 +390,7 @@ void TrafficStats::count_response(const Record& r) {
   if (r.issues.has(IssueId::kT15)) ++s.t15_responses;
   if (r.issues.has(IssueId::kT35)) ++s.t35_responses;
   if (r.request != nullptr && !wrong_slave) {
-    auto it = find_kind(kind_of(*r.request));
+    const auto it = kind_of_answered(*r.request);
     if (it != kinds_.end()) {
       ++it->second.responses;
       if (code) {

@@ -298,6 +298,16 @@ class TrafficStats : public RecordSink {
   // down the tree at every request and response. std::map entries never move.
   std::unordered_map<std::uint64_t, std::map<RequestKind, RequestKindStats>::iterator> kind_index_;
   std::map<RequestKind, RequestKindStats>::iterator find_kind(const RequestKind& kind);
+  // The kind entry of the request counted last, found again for its response without
+  // decoding the request a second time (one master asks one question at a time, so the
+  // response nearly always follows the request it answers).
+  struct CountedRequest {
+    std::uint64_t seq = UINT64_MAX;
+    Nanos t_start = kUnknownTime;
+    std::map<RequestKind, RequestKindStats>::iterator kind;
+  };
+  CountedRequest last_request_;
+  std::map<RequestKind, RequestKindStats>::iterator kind_of_answered(const Record& request);
   TimeBuckets<TrafficBucket> timeline_{0, kFirstBucketWidth, kTimelineBuckets};
   bool timeline_started_ = false;
   std::map<std::pair<std::uint8_t, std::string>, PointSeries> points_;

@@ -6,7 +6,7 @@
 // read would give: the output of a run never depends on the threads.
 //
 // Memory is bounded: at most kBatches batches of at most kBatchItems items or kBatchBytes
-// bytes exist at a time (about 4 MB each). Batches are that large because a per-byte capture
+// bytes exist at a time (about 2 MB each). Batches are that large because a per-byte capture
 // makes an item of every byte: with three threads on two cores (a ReadAhead inside a
 // FramingAhead), small batches made each handoff a wait for a core, and 4,096 items cost a
 // per-byte report 15% of its time in the switching.
@@ -22,9 +22,9 @@ namespace rtu {
 
 class ReadAhead final : public CaptureReader {
  public:
-  static constexpr std::size_t kBatches = 3;
-  static constexpr std::size_t kBatchItems = 65536;
-  static constexpr std::size_t kBatchBytes = 1024 * 1024;
+  static constexpr std::size_t kBatches = 6;
+  static constexpr std::size_t kBatchItems = 32768;
+  static constexpr std::size_t kBatchBytes = 512 * 1024;
 
   // Starts reading `reader` at once. Only read(), name(), bytes_read() and input_size() may
   // be asked of this object: the reader's other answers belong to the survey pass, or to

@@ -30,7 +30,7 @@ namespace rtu {
 
 class FramingAhead {
  public:
-  static constexpr std::size_t kBatches = 3;
+  static constexpr std::size_t kBatches = 6;
   static constexpr std::size_t kBatchSteps = 4096;
   static constexpr std::size_t kBatchBytes = 64 * 1024;
 

@@ -40,6 +40,15 @@ echo "Making captures of $frames frames in $work ..." >&2
 count=$("$rtuscope" report "$work/usb.hex" --format json --no-identify -q |
   python3 -c 'import json,sys; print(json.load(sys.stdin)["totals"]["frames"])')
 
+# The models report identifies in this traffic, named as a user who knows the devices would
+# name them: the report with them named decodes the same registers without identifying, so
+# the difference to the plain report is what identification itself costs.
+named=$("$rtuscope" report "$work/usb.hex" --format json -q |
+  python3 -c 'import json,sys
+for addr, s in json.load(sys.stdin)["slaves"].items():
+    if s.get("device_model_source") == "identified": print("--device", addr + "=" + s["device"])')
+read -r -a named <<<"$(echo $named)"
+
 # The captures just written are still being flushed to disk: let that not slow the first runs.
 sync
 
@@ -68,6 +77,8 @@ results+=("$(run "tshark -T fields (unit id, function code)" "frames.pcap" \
 for input in native.pcapng perbyte.hex usb.hex; do
   results+=("$(run "rtuscope report --format json" "$input" \
     "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
+  results+=("$(run "rtuscope report, models named (--device)" "$input" \
+    "$rtuscope" report "$work/$input" --format json --no-identify "${named[@]}" -o /dev/null -q)")
   results+=("$(run "rtuscope report --no-identify" "$input" \
     "$rtuscope" report "$work/$input" --format json --no-identify -o /dev/null -q)")
   results+=("$(run "rtuscope decode --format jsonl" "$input" \

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/bucket_index.hpp"
+
 namespace rtu {
 namespace {
 
@@ -99,11 +101,17 @@ std::optional<std::uint32_t> nearest_standard_baud(double rate) {
   return best;
 }
 
-std::size_t LineCheck::bucket_of(Nanos spacing) {
+std::size_t LineCheck::bucket_by_formula(Nanos spacing) {
   if (spacing < kNanosPerMicro) return 0;
   const double octaves = std::log2(static_cast<double>(spacing) / 1e3);
   const auto b = 1 + static_cast<std::size_t>(static_cast<double>(kPerOctave) * octaves);
   return std::min(b, kBuckets - 1);
+}
+
+std::size_t LineCheck::bucket_of(Nanos spacing) {
+  // The formula's buckets, without a logarithm per byte of a per-byte capture.
+  static const BucketIndex index(BucketIndex::lower_bounds_of(bucket_by_formula));
+  return index.find(std::max<Nanos>(spacing, 0));
 }
 
 void LineCheck::add(const Chunk& chunk) {

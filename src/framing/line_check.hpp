@@ -56,7 +56,8 @@ class LineCheck {
  private:
   static constexpr std::size_t kPerOctave = 48;
   static constexpr std::size_t kBuckets = 1 + kPerOctave * 21;  // below 1 µs, then 1 µs to ~2 s
-  static std::size_t bucket_of(Nanos spacing);
+  static std::size_t bucket_by_formula(Nanos spacing);          // the definition
+  static std::size_t bucket_of(Nanos spacing);                  // the same, looked up
   struct Cluster {
     Nanos spacing = 0;
     std::uint64_t count = 0;

@@ -3,12 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/bucket_index.hpp"
+
 namespace rtu {
 
-std::size_t TimingEstimator::bucket_of(Nanos interval) {
+std::size_t TimingEstimator::bucket_by_formula(Nanos interval) {
   const double micros = static_cast<double>(std::max<Nanos>(interval, 0)) / 1e3;
   const auto b = static_cast<std::size_t>(4.0 * std::log2(micros + 1.0));
   return std::min(b, kBuckets - 1);
+}
+
+std::size_t TimingEstimator::bucket_of(Nanos interval) {
+  // The formula's buckets, without a logarithm per read.
+  static const BucketIndex index(BucketIndex::lower_bounds_of(bucket_by_formula));
+  return index.find(std::max<Nanos>(interval, 0));
 }
 
 Nanos TimingEstimator::bucket_upper(std::size_t bucket) {

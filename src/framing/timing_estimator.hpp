@@ -35,7 +35,8 @@ class TimingEstimator {
 
  private:
   static constexpr std::size_t kBuckets = 160;  // 4 per octave from 1 µs: up to ~10^12 µs
-  static std::size_t bucket_of(Nanos interval);
+  static std::size_t bucket_by_formula(Nanos interval);  // the definition
+  static std::size_t bucket_of(Nanos interval);          // the same, looked up
   static Nanos bucket_upper(std::size_t bucket);
 
   std::array<std::uint64_t, kBuckets> multi_intervals_{};

@@ -80,11 +80,14 @@ void Framer::push(const Chunk& chunk) {
   ++chunks_;
   if (n > 1) ++batched_chunks_;
   const auto chunk_size = static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
+  // Asked once a read, not once a byte: the loop's stores into the window keep the compiler
+  // from hoisting them itself.
+  const std::uint8_t* const errors = chunk.errors.size() == n ? chunk.errors.data() : nullptr;
+  const bool starts_measured = config_.per_byte_exact && chunk.t_first_start != kUnknownTime;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t errors = chunk.errors.size() == n ? chunk.errors[i] : 0;
     Nanos end = 0;
     Nanos gap = kUnknownTime;
-    if (config_.per_byte_exact && chunk.t_first_start != kUnknownTime) {
+    if (starts_measured) {
       // Measured start of the first byte; any further bytes follow back to back.
       const Nanos start = chunk.t_first_start + static_cast<Nanos>(i) * char_time_;
       end = start + char_time_;
@@ -99,7 +102,8 @@ void Framer::push(const Chunk& chunk) {
         if (i == 0) gap = end - char_time_ - last_byte_end_;
       }
     }
-    append_byte(chunk.bytes[i], errors, end, gap, chunk.origin, chunk_size);
+    append_byte(chunk.bytes[i], errors != nullptr ? errors[i] : 0, end, gap, chunk.origin,
+                chunk_size);
   }
   decide(false);
 }

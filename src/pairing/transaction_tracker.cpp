@@ -98,8 +98,9 @@ void TransactionTracker::handle_response(Record& frame) {
   answered_ = true;
   frame.request = &open_;
   if (frame.crc_ok) {
-    frame.issues.merge(check_pdu(decode_pdu(frame, Role::kResponse)));
-    if (open_.crc_ok) frame.issues.merge(check_response_fits(open_, frame));
+    const DecodedPdu pdu = decode_pdu(frame, Role::kResponse);
+    frame.issues.merge(check_pdu(pdu));
+    if (open_.crc_ok) frame.issues.merge(check_response_fits(open_, frame, pdu));
   }
   out_.on_record(frame);
   frame.request = nullptr;

@@ -1,7 +1,7 @@
 // Throughput of the hot stages one at a time, so that an optimisation's gain can be measured
-// before and after on the stage it touches: time parsing, CRC, text hex reading, PDU
-// decoding, the statistics' histograms, the device stage with the report's statistics, and JSON
-// writing.
+// before and after on the stage it touches: time parsing, CRC, text hex reading, the framer,
+// the tracker, the statistics, PDU decoding, the statistics' histograms, the report's whole
+// pass after the reader, and JSON writing.
 // Run: build/tools/bench/rtuscope_bench --benchmark_filter=Stage
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -20,7 +20,9 @@
 #include "core/json_writer.hpp"
 #include "dissect/device_stage.hpp"
 #include "dissect/device_table.hpp"
+#include "framing/framer.hpp"
 #include "modbus/pdu.hpp"
+#include "pairing/transaction_tracker.hpp"
 #include "pipeline/decode_pipeline.hpp"
 #include "report/log_histogram.hpp"
 #include "report/traffic_stats.hpp"
@@ -92,6 +94,88 @@ void BM_StageTextHexReader(benchmark::State& state) {
   }
   std::remove(path.c_str());
   state.SetItemsProcessed(lines);
+}
+
+// The framer alone on the polling traffic's reads (arg 0: one byte a read, 1: 16 ms USB
+// batches): what a replay's reading thread spends on finding frames.
+void BM_StageFramer(benchmark::State& state) {
+  const bool batched = state.range(0) != 0;
+  const auto bus = polling(2000);
+  const auto chunks = batched ? bus.batched(16 * kNanosPerMilli) : bus.per_byte();
+  FramerConfig config;
+  config.line = bus.line();
+  config.resolution = batched ? 16 * kNanosPerMilli : kNanosPerMicro;
+  class Count final : public RecordSink {
+   public:
+    void on_record(Record& r) override { frames += r.kind == RecordKind::kFrame ? 1 : 0; }
+    std::int64_t frames = 0;
+  } count;
+  for (auto _ : state) {
+    Framer framer(config, count);
+    for (const Chunk& c : chunks) framer.push(c);
+    framer.finish();
+  }
+  state.SetItemsProcessed(count.frames);
+}
+
+// The records the framer makes of the polling traffic, before pairing.
+std::vector<Record> framed_polling(int transactions) {
+  const auto bus = polling(transactions);
+  FramerConfig config;
+  config.line = bus.line();
+  config.resolution = kNanosPerMicro;
+  Keep kept;
+  Framer framer(config, kept);
+  for (const Chunk& c : bus.per_byte()) framer.push(c);
+  framer.finish();
+  return kept.records;
+}
+
+// The transaction tracker alone: roles, pairing, timeouts and the PDU checks it runs.
+void BM_StageTracker(benchmark::State& state) {
+  const std::vector<Record> framed = framed_polling(2000);
+  class Null final : public RecordSink {
+   public:
+    void on_record(Record& r) override { benchmark::DoNotOptimize(r.txn); }
+  } null;
+  Record scratch;
+  for (auto _ : state) {
+    TransactionTracker tracker(TrackerConfig{}, null);
+    for (const Record& r : framed) {
+      scratch = r;
+      tracker.on_record(scratch);
+    }
+    tracker.on_finish();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(framed.size()));
+}
+
+// The report's statistics alone, on paired records (each response pointing at its request)
+// with no device map: counts, latencies, poll periods and the raw register series.
+void BM_StageStatistics(benchmark::State& state) {
+  Keep kept;
+  {
+    PipelineOptions options;
+    options.timing_resolution = kNanosPerMicro;
+    DecodePipeline pipeline(options, kept);
+    for (const auto& c : polling(2000).per_byte()) pipeline.push(c);
+    pipeline.finish();
+  }
+  // The tracker's requests are gone: each response gets the request kept before it.
+  std::vector<Record>& records = kept.records;
+  const Record* last_request = nullptr;
+  for (Record& r : records) {
+    if (r.role == Role::kRequest) last_request = &r;
+    r.request = r.role == Role::kResponse ? last_request : nullptr;
+  }
+  for (auto _ : state) {
+    TrafficStats stats;
+    dissect::DeviceTable table;
+    dissect::DeviceStage stage(table, stats, true);
+    for (Record& r : records) stage.on_record(r);
+    benchmark::DoNotOptimize(stats.totals().frames);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(records.size()));
 }
 
 void BM_StageDecodePdu(benchmark::State& state) {
@@ -168,6 +252,9 @@ void BM_StageJsonWriter(benchmark::State& state) {
 BENCHMARK(BM_StageDecimalSeconds);
 BENCHMARK(BM_StageCrc16)->Arg(8)->Arg(256);
 BENCHMARK(BM_StageTextHexReader)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageFramer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageTracker)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageStatistics)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageDecodePdu);
 BENCHMARK(BM_StageReportPass)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageLogHistogram);

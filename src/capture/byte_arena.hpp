@@ -13,16 +13,23 @@ namespace rtu {
 
 class ByteArena {
  public:
-  // Where a run lies in the arena.
+  // Where a run lies in the arena. 32 bits suffice: a batch ends once its arena holds a few
+  // hundred KB, and no single read, line or record comes near 4 GB. Kept small because a
+  // per-byte capture hands over one run per byte.
   struct Run {
-    std::size_t at = 0;
-    std::size_t size = 0;
+    std::uint32_t at = 0;
+    std::uint32_t size = 0;
     bool has_errors = false;
   };
 
   Run add(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> errors = {}) {
-    Run run{bytes_.size(), bytes.size(), !errors.empty()};
-    bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
+    Run run{static_cast<std::uint32_t>(bytes_.size()), static_cast<std::uint32_t>(bytes.size()),
+            !errors.empty()};
+    if (bytes.size() == 1) {
+      bytes_.push_back(bytes[0]);  // a per-byte capture's every read: no range insert
+    } else {
+      bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
+    }
     if (run.has_errors) {
       errors_.resize(bytes_.size(), 0);  // earlier runs' places stay zero
       std::copy(errors.begin(), errors.end(),

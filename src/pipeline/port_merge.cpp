@@ -35,8 +35,7 @@ std::size_t PortMerge::earliest_port() const {
   return best;
 }
 
-void PortMerge::drain() {
-  if (held_.size() == 1) return;  // one port: records pass at once (on_record), none is held
+void PortMerge::drain_held() {
   for (;;) {
     // The earliest record held on any port...
     const std::size_t best = earliest_port();
@@ -62,8 +61,7 @@ void PortMerge::flush() {
   }
 }
 
-Nanos PortMerge::oldest_pending_start() const {
-  if (held_.size() == 1) return pending_start_(0);  // asked at every read: nothing is held
+Nanos PortMerge::oldest_held_or_pending_start() const {
   Nanos oldest = kUnknownTime;
   const auto take = [&oldest](Nanos t) {
     if (t != kUnknownTime && (oldest == kUnknownTime || t < oldest)) oldest = t;

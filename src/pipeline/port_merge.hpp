@@ -34,13 +34,21 @@ class PortMerge {
   void set_port_count(std::size_t count);
   // Passes on the held records that no port can precede any more; called once a read was
   // fed to its port's framer.
-  void drain();
+  // Both are asked at every read; with one port (nearly every capture) records pass at once
+  // and none is held, which is decided here, inline.
+  void drain() {
+    if (held_.size() > 1) drain_held();
+  }
   // Passes on every held record (end of input).
   void flush();
   // Start of the oldest record held or still to come from a framer; kUnknownTime if none.
-  [[nodiscard]] Nanos oldest_pending_start() const;
+  [[nodiscard]] Nanos oldest_pending_start() const {
+    return held_.size() == 1 ? pending_start_(0) : oldest_held_or_pending_start();
+  }
 
  private:
+  void drain_held();
+  [[nodiscard]] Nanos oldest_held_or_pending_start() const;
   // The port whose first held record starts earliest; held_.size() when none is held.
   [[nodiscard]] std::size_t earliest_port() const;
   void pass(Record& record);

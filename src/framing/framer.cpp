@@ -108,12 +108,7 @@ void Framer::push(const Chunk& chunk) {
   decide(false);
 }
 
-void Framer::advance(Nanos now) {
-  if (buffered() == 0 && noise_.size == 0) return;
-  if (last_byte_end_ == kUnknownTime ||
-      now - last_byte_end_ < t3_5_ + std::max(resolution_, kDeliveryPatience)) {
-    return;
-  }
+void Framer::decide_after_silence() {
   decide(true);
   flush_noise();  // a silence ends a stretch of noise too
 }

@@ -120,12 +120,6 @@ Nanos Framer::decidable_at() const {
   return last_byte_end_ + t3_5_ + std::max(resolution_, kDeliveryPatience);
 }
 
-Nanos Framer::oldest_pending_start() const {
-  if (noise_.size > 0) return noise_.t_start;
-  if (buffered() > 0) return info_at(0).t_end - char_time_;
-  return kUnknownTime;
-}
-
 void Framer::finish() {
   decide(true);
   flush_noise();

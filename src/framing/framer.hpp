@@ -83,7 +83,11 @@ class Framer {
   [[nodiscard]] Nanos resolution() const { return resolution_; }
   // Start of the oldest byte not yet emitted in a record, kUnknownTime when none: records
   // still to come can start no earlier.
-  [[nodiscard]] Nanos oldest_pending_start() const;
+  [[nodiscard]] Nanos oldest_pending_start() const {  // inline: asked at every read
+    if (noise_.size > 0) return noise_.t_start;
+    if (buffered() > 0) return info_at(0).t_end - char_time_;
+    return kUnknownTime;
+  }
   // Earliest start of a byte not yet read when nothing was read up to `now`: an adapter
   // may still hold bytes for its delivery delay (the resolution, at least
   // kDeliveryPatience), and one more may be on the wire.

@@ -131,6 +131,26 @@ std::vector<Record> framed_polling(int transactions) {
   return kept.records;
 }
 
+// The records the whole pipeline makes of the polling traffic, paired. The requests their
+// responses pointed at went with the tracker: each response points at the request kept
+// before it instead (so the vector must be moved, never copied).
+std::vector<Record> paired_polling(int transactions) {
+  Keep kept;
+  {
+    PipelineOptions options;
+    options.timing_resolution = kNanosPerMicro;
+    DecodePipeline pipeline(options, kept);
+    for (const auto& c : polling(transactions).per_byte()) pipeline.push(c);
+    pipeline.finish();
+  }
+  const Record* last_request = nullptr;
+  for (Record& r : kept.records) {
+    if (r.role == Role::kRequest) last_request = &r;
+    r.request = r.role == Role::kResponse ? last_request : nullptr;
+  }
+  return std::move(kept.records);
+}
+
 // The transaction tracker alone: roles, pairing, timeouts and the PDU checks it runs.
 void BM_StageTracker(benchmark::State& state) {
   const std::vector<Record> framed = framed_polling(2000);
@@ -153,21 +173,7 @@ void BM_StageTracker(benchmark::State& state) {
 // The report's statistics alone, on paired records (each response pointing at its request)
 // with no device map: counts, latencies, poll periods and the raw register series.
 void BM_StageStatistics(benchmark::State& state) {
-  Keep kept;
-  {
-    PipelineOptions options;
-    options.timing_resolution = kNanosPerMicro;
-    DecodePipeline pipeline(options, kept);
-    for (const auto& c : polling(2000).per_byte()) pipeline.push(c);
-    pipeline.finish();
-  }
-  // The tracker's requests are gone: each response gets the request kept before it.
-  std::vector<Record>& records = kept.records;
-  const Record* last_request = nullptr;
-  for (Record& r : records) {
-    if (r.role == Role::kRequest) last_request = &r;
-    r.request = r.role == Role::kResponse ? last_request : nullptr;
-  }
+  std::vector<Record> records = paired_polling(2000);
   for (auto _ : state) {
     TrafficStats stats;
     dissect::DeviceTable table;
@@ -179,16 +185,11 @@ void BM_StageStatistics(benchmark::State& state) {
 }
 
 void BM_StageDecodePdu(benchmark::State& state) {
-  Keep kept;
-  PipelineOptions options;
-  options.timing_resolution = kNanosPerMicro;
-  DecodePipeline pipeline(options, kept);
-  for (const auto& c : polling(500).per_byte()) pipeline.push(c);
-  pipeline.finish();
+  const std::vector<Record> records = paired_polling(500);
   for (auto _ : state) {
-    for (const Record& r : kept.records) benchmark::DoNotOptimize(decode_pdu(r, r.role));
+    for (const Record& r : records) benchmark::DoNotOptimize(decode_pdu(r, r.role));
   }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kept.records.size()));
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(records.size()));
 }
 
 // Framing and pairing, then the device stage (raw register values) and the statistics:

@@ -80,30 +80,37 @@ void Framer::push(const Chunk& chunk) {
   ++chunks_;
   if (n > 1) ++batched_chunks_;
   const auto chunk_size = static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
-  // Asked once a read, not once a byte: the loop's stores into the window keep the compiler
-  // from hoisting them itself.
+  // Everything the loop reads, in locals: its stores into the byte window may alias anything
+  // (they are uint8_t), so the compiler would otherwise reload each of these at every byte.
+  // last_byte_end_ is only ever set by append_byte, to the `end` given.
+  const std::uint8_t* const bytes = chunk.bytes.data();
   const std::uint8_t* const errors = chunk.errors.size() == n ? chunk.errors.data() : nullptr;
   const bool starts_measured = config_.per_byte_exact && chunk.t_first_start != kUnknownTime;
+  const Nanos first_start = chunk.t_first_start;
+  const Nanos read_end = chunk.t_end;
+  const std::uint64_t origin = chunk.origin;
+  const Nanos char_time = char_time_;
+  Nanos last_end = last_byte_end_;
   for (std::size_t i = 0; i < n; ++i) {
     Nanos end = 0;
     Nanos gap = kUnknownTime;
     if (starts_measured) {
       // Measured start of the first byte; any further bytes follow back to back.
-      const Nanos start = chunk.t_first_start + static_cast<Nanos>(i) * char_time_;
-      end = start + char_time_;
-      if (last_byte_end_ != kUnknownTime) gap = std::max<Nanos>(0, start - last_byte_end_);
+      const Nanos start = first_start + static_cast<Nanos>(i) * char_time;
+      end = start + char_time;
+      if (last_end != kUnknownTime) gap = std::max<Nanos>(0, start - last_end);
     } else {
       // The read completed when the last byte had arrived; earlier bytes arrived at the
       // latest one character time apart, and never before the previous byte ended.
-      end = chunk.t_end - static_cast<Nanos>(n - 1 - i) * char_time_;
-      if (last_byte_end_ != kUnknownTime) {
-        end = std::max(end, last_byte_end_ + char_time_);
+      end = read_end - static_cast<Nanos>(n - 1 - i) * char_time;
+      if (last_end != kUnknownTime) {
+        end = std::max(end, last_end + char_time);
         // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
-        if (i == 0) gap = end - char_time_ - last_byte_end_;
+        if (i == 0) gap = end - char_time - last_end;
       }
     }
-    append_byte(chunk.bytes[i], errors != nullptr ? errors[i] : 0, end, gap, chunk.origin,
-                chunk_size);
+    append_byte(bytes[i], errors != nullptr ? errors[i] : 0, end, gap, origin, chunk_size);
+    last_end = end;
   }
   decide(false);
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstring>
 #include <utility>
 
 #include "core/time_format.hpp"
@@ -34,13 +35,18 @@ Nanos BackwardTimeClamp::admit(Nanos t, std::string_view text, std::uint64_t lin
   if (goes_backwards(t)) {
     if (clamped_ <= kDetailed && sink_) {
       sink_(fmt::format("{}:{}: timestamp goes backwards ({} after {} on line {}); using {}", file_,
-                        line, text, last_text_, last_position_, last_text_));
+                        line, text, last_text(), last_position_, last_text()));
     }
-    return last_;  // last_text_ and last_position_ keep naming the time in force
+    return last_;  // last_text() and last_position_ keep naming the time in force
   }
   have_last_ = true;
   last_ = t;
-  last_text_.assign(text);
+  if (text.size() <= kShortText) {
+    std::memcpy(last_short_text_.data(), text.data(), text.size());
+  } else {
+    last_long_text_.assign(text);
+  }
+  last_text_size_ = text.size();
   last_position_ = line;
   return t;
 }

@@ -3,6 +3,7 @@
 // the user must know (e.g. a timestamp that went backwards). Readers never print themselves;
 // they hand the message (already "FILE:LINE: ...") to a sink, so a caller that reads a file
 // twice can silence the second pass and tests can collect the messages.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -45,7 +46,18 @@ class BackwardTimeClamp {
   WarningSink sink_;
   bool have_last_ = false;
   Nanos last_ = 0;
-  std::string last_text_;
+  // The time in force as written, for the message of a later time that goes back. It is
+  // copied at every line of a text capture, so a short one (any stamp but an unusual one)
+  // is kept in place rather than in a string.
+  static constexpr std::size_t kShortText = 40;
+  [[nodiscard]] std::string_view last_text() const {
+    return last_text_size_ <= kShortText
+               ? std::string_view(last_short_text_.data(), last_text_size_)
+               : std::string_view(last_long_text_);
+  }
+  std::array<char, kShortText> last_short_text_{};
+  std::size_t last_text_size_ = 0;
+  std::string last_long_text_;
   std::uint64_t last_position_ = 0;  // its line, or its offset
   std::uint64_t clamped_ = 0;
   bool finished_ = false;

@@ -170,6 +170,24 @@ TEST(TextHexReader, BackwardTimeIsClampedAndReported) {
             path + ":2: timestamp goes backwards (1.2 after 1.5 on line 1); using 1.5");
 }
 
+// The time in force is quoted as written, however long: stamps of up to 40 characters are
+// kept one way, longer ones another, and a short one after a long one must not show the
+// long one's tail.
+TEST(TextHexReader, BackwardTimeQuotesTheTimeInForceAsWrittenWhateverItsLength) {
+  TempDir dir;
+  const std::string long_stamp = "1.5000000000000000000000000000000000000000000000";  // 48
+  const auto path = dir.write("t.hex", long_stamp + " 01\n1.2 02\n1.7 03\n1.6 04\n");
+  std::vector<std::string> warnings;
+  TextHexReader reader(path, [&](std::string_view m) { warnings.emplace_back(m); });
+  const auto chunks = read_all(reader);
+  ASSERT_EQ(chunks.size(), 4U);
+  ASSERT_EQ(warnings.size(), 2U);
+  EXPECT_EQ(warnings[0], path + ":2: timestamp goes backwards (1.2 after " + long_stamp +
+                             " on line 1); using " + long_stamp);
+  EXPECT_EQ(warnings[1],
+            path + ":4: timestamp goes backwards (1.6 after 1.7 on line 3); using 1.7");
+}
+
 TEST(TextHexReader, ManyBackwardTimesAreSummarisedAtTheEnd) {
   TempDir dir;
   std::string content = "9.0 00\n";

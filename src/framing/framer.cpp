@@ -124,7 +124,7 @@ Nanos Framer::decidable_at() const {
   if ((buffered() == 0 && noise_.size == 0) || last_byte_end_ == kUnknownTime) {
     return kUnknownTime;
   }
-  return last_byte_end_ + t3_5_ + std::max(resolution_, kDeliveryPatience);
+  return last_byte_end_ + quiet_to_decide();
 }
 
 void Framer::finish() {

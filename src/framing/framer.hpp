@@ -66,7 +66,7 @@ class Framer {
   void advance(Nanos now) {
     // Asked at every read, and nearly always too soon: that answer inline.
     if ((buffered() == 0 && noise_.size == 0) || last_byte_end_ == kUnknownTime ||
-        now - last_byte_end_ < t3_5_ + std::max(resolution_, kDeliveryPatience)) {
+        now - last_byte_end_ < quiet_to_decide()) {
       return;
     }
     decide_after_silence();
@@ -93,9 +93,7 @@ class Framer {
   // kDeliveryPatience), and one more may be on the wire.
   [[nodiscard]] Nanos earliest_unread_start(Nanos now) const { return now - unread_reach(); }
   // How far before a moment of quiet unread bytes may have started (see above).
-  [[nodiscard]] Nanos unread_reach() const {
-    return std::max(resolution_, kDeliveryPatience) + char_time_;
-  }
+  [[nodiscard]] Nanos unread_reach() const { return delivery_allowance() + char_time_; }
   // The moment from which advance() decides the bytes held now (the line quiet for t3.5
   // beyond what an adapter may hold back); kUnknownTime when none are held.
   [[nodiscard]] Nanos decidable_at() const;
@@ -114,6 +112,12 @@ class Framer {
 
   enum class Verdict : std::uint8_t { kEmitted, kWait };
 
+  // How long an adapter may hold bytes back (the resolution, at least kDeliveryPatience),
+  // and the quiet after the last byte that decides what is held: t3.5 beyond that.
+  [[nodiscard]] Nanos delivery_allowance() const {
+    return std::max(resolution_, kDeliveryPatience);
+  }
+  [[nodiscard]] Nanos quiet_to_decide() const { return t3_5_ + delivery_allowance(); }
   void decide_after_silence();  // advance() once the line was quiet long enough
   void append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
                    std::uint64_t origin, std::uint16_t chunk_size);

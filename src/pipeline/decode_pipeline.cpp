@@ -246,10 +246,7 @@ void DecodePipeline::idle(Nanos now) {
     framer->advance(now);
     decided_until = std::min(decided_until, framer->earliest_unread_start(now));
   }
-  // With one port the merge holds nothing, and what is pending is the framer's alone: asked
-  // directly, at every read, rather than through the merge's callback.
-  const Nanos oldest = impl_->framers.size() == 1 ? impl_->framers.front()->oldest_pending_start()
-                                                  : impl_->merge.oldest_pending_start();
+  const Nanos oldest = impl_->merge.oldest_pending_start();
   if (oldest != kUnknownTime) decided_until = std::min(decided_until, oldest);
   impl_->pairing.advance(decided_until);
 }

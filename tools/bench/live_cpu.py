@@ -6,10 +6,13 @@
 
 A master and a slave endpoint of rtuvbus exchange CRC-valid Modbus frames back to back
 (requests of 8 bytes, answers of 5-69 bytes, a t3.5-sized pause between frames), which keeps
-the line about 90% busy. rtuscope listens on a third endpoint that receives through a
-USB-adapter model with the given latency timer (1 ms: the smallest reads a common adapter
-gives), writes JSON lines to /dev/null and records a pcapng. Prints the line load and the
-CPU that rtuscope used (utime + stime from /proc/PID/stat) as a share of one core.
+the line about 90% busy. The bus delivers byte by byte at the line rate, and rtuscope
+listens on a third endpoint that receives through a USB-adapter model with the given latency
+timer: with 1 ms (the smallest a common adapter has) a long answer arrives in a read per
+millisecond, as from a real FTDI adapter, not in one read per frame. rtuscope writes JSON
+lines to /dev/null and records a pcapng. Prints the line load, the CPU that rtuscope used
+(the scheduler's nanosecond count, /proc/PID/task/*/schedstat) as a share of one core, and
+rtuscope's own summary of its reads.
 """
 import argparse
 import os
@@ -22,7 +25,7 @@ import tty
 # tools/pylib, found from this file: any working directory, no install.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
 from modbus_crc import with_crc  # noqa: E402  (after the path line)
-from proc_usage import cpu_seconds  # noqa: E402
+from proc_usage import cpu_seconds_exact  # noqa: E402
 
 
 def frames():
@@ -47,10 +50,11 @@ def main():
     work = tempfile.mkdtemp(prefix="rtuscope-livecpu-")
     links = os.path.join(work, "bus")
     procs = []
+    live_log = open(os.path.join(work, "live.log"), "w")
     try:
         procs.append(subprocess.Popen(
             [os.path.join(args.build, "rtuvbus"), "-n", "3", "--baud", str(args.baud),
-             "--link-dir", links, "--usb", "2", "--usb-latency-ms", str(args.usb_latency_ms)],
+             "--link-dir", links, "--per-byte", "--usb", "2", "--usb-latency-ms", str(args.usb_latency_ms)],
             stdout=subprocess.DEVNULL))
         deadline = time.monotonic() + 10
         while not os.path.exists(os.path.join(links, "ep2")):
@@ -59,8 +63,8 @@ def main():
             time.sleep(0.05)
         live = subprocess.Popen(
             [os.path.join(args.build, "rtuscope"), "live", os.path.join(links, "ep2"),
-             "--baud", str(args.baud), "--format", "jsonl", "-o", os.devnull,
-             "-w", os.path.join(work, "rec.pcapng")], stderr=subprocess.DEVNULL)
+             "--baud", str(args.baud), "--format", "jsonl", "-o", os.environ.get("LIVE_CPU_JSONL", os.devnull),
+             "-w", os.path.join(work, "rec.pcapng")], stderr=live_log)
         procs.append(live)
         time.sleep(1)
         writers = [os.open(os.path.join(links, f"ep{i}"), os.O_RDWR | os.O_NOCTTY)
@@ -70,7 +74,7 @@ def main():
             os.set_blocking(fd, False)  # each also hears the other: drained, never waited on
         cycle = frames()
         pause = 4 * char_s  # a little over t3.5 between frames
-        start_cpu = cpu_seconds(live.pid)
+        start_cpu = cpu_seconds_exact(live.pid)
         start = time.monotonic()
         due = start
         busy = 0.0
@@ -89,12 +93,18 @@ def main():
                 if delay > 0:
                     time.sleep(delay)
         elapsed = time.monotonic() - start
-        used = cpu_seconds(live.pid) - start_cpu
+        used = cpu_seconds_exact(live.pid) - start_cpu
         print(f"{args.baud} baud, line {100 * busy / elapsed:.0f}% busy, USB latency "
               f"{args.usb_latency_ms:g} ms, {elapsed:.0f} s: rtuscope live used {used:.2f} s "
               f"of CPU = {100 * used / elapsed:.2f}% of a core")
         for fd in writers:
             os.close(fd)
+        live.terminate()
+        live.wait()
+        live_log.close()
+        with open(os.path.join(work, "live.log")) as f:
+            summary = [line.strip() for line in f if " reads: " in line]
+        print(summary[-1] if summary else "rtuscope live printed no summary of its reads")
     finally:
         for p in reversed(procs):
             p.terminate()

@@ -126,6 +126,10 @@ def main():
     ap.add_argument("--usb-latency-ms", type=float)
     ap.add_argument("--usb-packet", type=int)
     ap.add_argument("--slave-kind", choices=["libmodbus", "pymodbus"])
+    # Bytes reach the adapter model one by one at the line rate, so a 1 ms latency timer
+    # hands over a long frame in a read per millisecond, as a real adapter does, instead of
+    # each writer's frame arriving whole.
+    ap.add_argument("--wire-rate", action="store_true")
     args = ap.parse_args()
     baud = args.baud
     if shutil.which("mbpoll") is None:
@@ -138,6 +142,8 @@ def main():
     report_path = os.path.join(args.work, "report.json")
 
     vbus_cmd = [args.vbus, "-n", "3", "--baud", str(baud), "--parity", "E", "--log", log]
+    if args.wire_rate:
+        vbus_cmd.append("--per-byte")
     usb = args.scenario == "usb_chunking" or args.usb_latency_ms is not None
     if usb:
         vbus_cmd += ["--usb", "2", "--usb-latency-ms", str(args.usb_latency_ms or 16)]

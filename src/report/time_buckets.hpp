@@ -23,9 +23,16 @@ class TimeBuckets {
   // The bucket that holds time `t` (times before the origin go to the first bucket),
   // widening first if `t` lies past the end.
   T& at(Nanos t) {
+    // Times come nearly in order, so most fall in the bucket the last one did: answered
+    // without the 64-bit division (a report asks this several times per frame and once per
+    // decoded point).
+    if (t >= last_start_ && t < last_end_) return buckets_[last_];
     while (t >= end()) widen();
     if (t < origin_) return buckets_.front();
-    return buckets_[static_cast<std::size_t>((t - origin_) / width_)];
+    last_ = static_cast<std::size_t>((t - origin_) / width_);
+    last_start_ = bucket_start(last_);
+    last_end_ = last_start_ + width_;
+    return buckets_[last_];
   }
 
   // Spreads `amount` over [from, to) in proportion to the overlap with each bucket; the
@@ -75,11 +82,16 @@ class TimeBuckets {
       buckets_[i] = merged;
     }
     width_ *= 2;
+    last_end_ = last_start_;  // the bucket of the last time moved: ask again
   }
 
   Nanos origin_;
   Nanos width_;
   std::vector<T> buckets_;
+  // The bucket at() found last and the times it holds; empty ([0, 0)) until then.
+  std::size_t last_ = 0;
+  Nanos last_start_ = 0;
+  Nanos last_end_ = 0;
 };
 
 }  // namespace rtu

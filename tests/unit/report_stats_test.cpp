@@ -165,6 +165,50 @@ TEST(TimeBuckets, WidenKeepsTotalsAndCoversLateTimes) {
   EXPECT_EQ(n, 143U);
 }
 
+// at() remembers the last bucket it found; whatever the order of the times, and across
+// widening, it must give the bucket the formula gives. Each sample records its own time, so
+// a sample counted in the wrong bucket shows as a time outside that bucket's range.
+TEST(TimeBuckets, AtGivesTheFormulasBucketForTimesInAnyOrderAndAcrossWidening) {
+  struct Times {
+    std::vector<Nanos> t;
+    void merge(const Times& o) { t.insert(t.end(), o.t.begin(), o.t.end()); }
+  };
+  std::mt19937_64 rng(7);
+  TimeBuckets<Times> tb(5000, 3, 16);
+  Nanos now = 5000;
+  std::size_t counted = 0;
+  for (int i = 0; i < 20000; ++i) {
+    now += static_cast<Nanos>(rng() % 5);
+    Nanos t = now;
+    switch (rng() % 8) {
+      case 0: t = now - static_cast<Nanos>(rng() % 40); break;    // out of order
+      case 1: t = 4000 + static_cast<Nanos>(rng() % 900); break;  // before the origin
+      case 2: t = now + static_cast<Nanos>(rng() % 3); break;     // at a bucket's edge
+      case 3:
+        // spread() widens too (a record's busy time reaching past the end).
+        tb.spread(now, now + static_cast<Nanos>(rng() % 64), [](Times&, double) {});
+        break;
+      default: break;
+    }
+    tb.at(t).t.push_back(t);
+    ++counted;
+  }
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < tb.size(); ++i) {
+    for (const Nanos t : tb[i].t) {
+      ++seen;
+      if (t < tb.origin()) {
+        EXPECT_EQ(i, 0U) << "time " << t << " before the origin";
+        continue;
+      }
+      EXPECT_GE(t, tb.bucket_start(i)) << "bucket " << i << " width " << tb.width();
+      EXPECT_LT(t, tb.bucket_start(i) + tb.width()) << "bucket " << i << " width " << tb.width();
+    }
+  }
+  EXPECT_EQ(seen, counted);
+  EXPECT_GT(tb.width(), 3);  // it did widen
+}
+
 TEST(TimeBuckets, SpreadSplitsBusyTimeByOverlap) {
   TimeBuckets<Sum> tb(0, 100, 4);
   tb.spread(50, 250, [](Sum& s, double share) { s.v += share * 200.0; });

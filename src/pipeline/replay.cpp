@@ -265,9 +265,9 @@ FramingAhead::Setup framing_setup(const CaptureSurvey& survey, const ReplayOptio
 // How one decoding pass is laid over the threads. Framing runs on the reading thread
 // (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead) or the
 // pass may end early (options.enough: it then ends at a reader's item, which only a ReadAhead
-// can tell). Where reads hold one byte each, parsing costs as much as framing: the reader
-// then runs in a ReadAhead of its own inside the FramingAhead. `alongside` (optional) sees
-// every item on the parsing thread.
+// can tell). Where reads hold one byte each, parsing costs as much as framing, and where the
+// caller asks (ReplayOptions::parse_ahead): the reader then runs in a ReadAhead of its own
+// inside the FramingAhead. `alongside` (optional) sees every item on the parsing thread.
 class DecodingRun {
  public:
   DecodingRun(std::unique_ptr<CaptureReader> reader, const CaptureSurvey& survey,
@@ -277,7 +277,7 @@ class DecodingRun {
       parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
       return;
     }
-    if (survey.single_byte_reads) {
+    if (survey.single_byte_reads || options.parse_ahead) {
       parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
       alongside = nullptr;
     }

@@ -1,6 +1,8 @@
 // The one two-pass replay driver (pipeline/replay.hpp): what it takes from any CaptureReader
 // (chunks, frame and noise records, the capture's end, what the capture declares), checked
 // with a scripted reader, and that real formats holding the same traffic decode alike.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -285,6 +287,72 @@ TEST(ReplayDriver, TextHexSaleaeAndPcapngOfTheSameTrafficDecodeAlike) {
     replay_capture(dir + "device_examples.hex", options, exporter);
   }
   EXPECT_EQ(decode_file(pcapng), from_hex);
+}
+
+// Everything a sink can tell of a record, as a line (a copied record's request pointer is
+// not followed: its sequence number is the response's own pairing).
+std::string describe(const Record& r) {
+  return fmt::format(
+      "kind={} seq={} t={}..{} gap={} origin={} errors={} fit={} crc={} issues={:x} role={} "
+      "txn={} latency={} {:02x}",
+      static_cast<int>(r.kind), r.seq, r.t_start, r.t_end, r.gap_before, r.origin, r.line_errors,
+      r.shape_fit, r.crc_ok, r.issues.bits(), static_cast<int>(r.role), r.txn, r.latency,
+      fmt::join(r.bytes(), ""));
+}
+
+// The records of `path` with the decoding pass laid over the threads as `frame_ahead` and
+// `parse_ahead` say; with `alongside`, surveyed during the decoding where the capture allows.
+std::vector<std::string> decoded_with(const std::string& path, bool frame_ahead, bool parse_ahead,
+                                      bool alongside) {
+  CollectingSink sink;
+  ReplayOptions options;
+  options.show_warnings = false;
+  options.frame_ahead = frame_ahead;
+  options.parse_ahead = parse_ahead;
+  const CaptureOpener open = capture_opener(CaptureFile{path});
+  std::optional<CaptureSurvey> declared;
+  if (alongside) declared = declared_survey(open, options);
+  if (declared) {
+    EXPECT_TRUE(decode_and_survey(open, *declared, options, sink).has_value()) << path;
+  } else {
+    replay_capture(open, options, sink);
+  }
+  std::vector<std::string> out;
+  for (const Record& r : sink.records) out.push_back(describe(r));
+  return out;
+}
+
+// Reading, parsing, framing and pairing may run on one, two or three threads (reports parse
+// on a thread of their own): the records never depend on it. Every bundled text capture, and
+// live-style recordings (raw reads beside frame records, settings declared: surveyed while
+// decoding).
+TEST(ReplayDriver, EveryThreadLayoutGivesTheSameRecords) {
+  testing::TempDir temp;
+  std::vector<std::string> paths = testing::bundled_text_captures();
+  const std::string dir = std::string(RTUSCOPE_SOURCE_DIR) + "/captures/";
+  std::size_t recordings = 0;
+  for (const char* name :
+       {"bus_9600_usb.hex", "bus_19200_faults_usb.hex", "bus_9600_perbyte.hex"}) {
+    const std::string raw = (temp.path() / (std::string(name) + ".pcapng")).string();
+    PcapExportSink exporter(std::make_unique<FileOutput>(raw),
+                            PcapExportOptions{PcapExportFormat::kPcapng, true});
+    ReplayOptions options;
+    options.show_warnings = false;
+    options.on_chunk = [&exporter](const Chunk& chunk) { exporter.on_chunk(chunk); };
+    replay_capture(dir + name, options, exporter);
+    paths.push_back(raw);
+    ++recordings;
+  }
+  for (const auto& path : paths) {
+    SCOPED_TRACE(path);
+    const bool alongside = path.ends_with(".pcapng");
+    const auto expected = decoded_with(path, false, false, alongside);
+    EXPECT_GT(expected.size(), 2U);
+    EXPECT_EQ(decoded_with(path, true, false, alongside), expected);
+    EXPECT_EQ(decoded_with(path, true, true, alongside), expected);
+  }
+  EXPECT_EQ(recordings, 3U);
+  EXPECT_GE(paths.size(), 13U);
 }
 
 }  // namespace

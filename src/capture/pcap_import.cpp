@@ -187,22 +187,22 @@ bool PcapImporter::next(PcapItem& out) {
     std::string error;
     if (packet_.link_type == pcap::kLinkTypeUpperPdu) {
       have_packet_ = false;
-      const auto pdu = parse_upper_pdu(packet_.data, error);
-      if (!pdu) {
+      UpperPdu pdu;
+      if (!parse_upper_pdu(packet_.data, pdu, error)) {
         fail(fmt::format("{}: offset {}: upper-PDU record: {}", name(), at, error));
       }
-      if (pdu->dissector != upper_pdu::kModbusRtuDissector && pdu->dissector != "data") {
+      if (pdu.dissector != upper_pdu::kModbusRtuDissector && pdu.dissector != "data") {
         fail(fmt::format(
             "{}: offset {}: upper-PDU record for dissector '{}'; expected 'mbrtu' (Modbus RTU "
             "frames) or 'data' (bytes that form no frame)",
-            name(), at, pdu->dissector));
+            name(), at, pdu.dissector));
       }
       // Wireshark writes records whose PDU is empty; they hold no byte, so no frame or
       // noise (a 0-byte "frame" would be a request of slave 0 that nobody answers).
-      if (pdu->payload.empty()) continue;
+      if (pdu.payload.empty()) continue;
       out = PcapItem{};
-      out.kind = pdu->dissector == "data" ? PcapItem::Kind::kNoise : PcapItem::Kind::kFrame;
-      out.bytes = pdu->payload;  // in the reader's block, which stays until the next call
+      out.kind = pdu.dissector == "data" ? PcapItem::Kind::kNoise : PcapItem::Kind::kFrame;
+      out.bytes = pdu.payload;  // in the reader's block, which stays until the next call
       out.t_start = packet_.t;
       out.offset = at;
       out.resolution = packet_.resolution;

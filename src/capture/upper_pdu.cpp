@@ -77,8 +77,8 @@ PduDirection UpperPdu::direction() const {
   return PduDirection::kUnknown;
 }
 
-std::optional<UpperPdu> parse_upper_pdu(std::span<const std::uint8_t> record, std::string& error) {
-  UpperPdu pdu;
+bool parse_upper_pdu(std::span<const std::uint8_t> record, UpperPdu& pdu, std::string& error) {
+  pdu = UpperPdu{};
   std::size_t pos = 0;
   for (;;) {
     if (record.size() - pos < 4) {
@@ -86,14 +86,14 @@ std::optional<UpperPdu> parse_upper_pdu(std::span<const std::uint8_t> record, st
           "byte {}: TLV header cut off ({} bytes left); expected a tag and a "
           "length, ending with tag 0",
           pos, record.size() - pos);
-      return std::nullopt;
+      return false;
     }
     const std::uint16_t tag = load_u16(record, pos, ByteOrder::kBig);
     const std::uint16_t length = load_u16(record, pos + 2, ByteOrder::kBig);
     if (length > record.size() - pos - 4) {
       error = fmt::format("byte {}: tag {} of length {} runs past the end of the record", pos, tag,
                           length);
-      return std::nullopt;
+      return false;
     }
     const auto value = record.subspan(pos + 4, length);
     pos += 4 + length;
@@ -102,7 +102,7 @@ std::optional<UpperPdu> parse_upper_pdu(std::span<const std::uint8_t> record, st
       return load_u32(value, 0, ByteOrder::kBig);
     };
     switch (tag) {
-      case upper_pdu::kTagEndOfOptions: pdu.payload = record.subspan(pos); return pdu;
+      case upper_pdu::kTagEndOfOptions: pdu.payload = record.subspan(pos); return true;
       case upper_pdu::kTagDissectorName: pdu.dissector = as_text(value); break;
       case upper_pdu::kTagPortType: pdu.port_type = u32(); break;
       case upper_pdu::kTagSourcePort: pdu.source_port = u32(); break;

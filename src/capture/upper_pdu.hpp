@@ -57,9 +57,11 @@ struct UpperPdu {
   [[nodiscard]] PduDirection direction() const;
 };
 
-// Parses a record. On malformed TLVs returns nullopt and sets `error` to what was expected
-// and at which byte of the record.
-std::optional<UpperPdu> parse_upper_pdu(std::span<const std::uint8_t> record, std::string& error);
+// Parses a record into `pdu` (views into `record`). On malformed TLVs returns false and sets
+// `error` to what was expected and at which byte of the record. (Filled in place: a returned
+// std::optional<UpperPdu> was built on the stack and reloaded in other widths than it was
+// stored in, which stalled the reading of every record.)
+bool parse_upper_pdu(std::span<const std::uint8_t> record, UpperPdu& pdu, std::string& error);
 
 // True when Wireshark's mbrtu dissector declines this ADU (it then shows as Data):
 // broadcast frames (unit 0) and frames shorter than 5 bytes.

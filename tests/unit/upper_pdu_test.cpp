@@ -27,14 +27,14 @@ TEST(UpperPdu, DirectionTravelsAsPorts) {
     // name (12) + 3 × u32 tags (24) + end (4) + ADU
     EXPECT_EQ(out.size(), 12U + 24U + 4U + kAdu.size());
     std::string error;
-    const auto pdu = parse_upper_pdu(out, error);
-    ASSERT_TRUE(pdu) << error;
-    EXPECT_EQ(pdu->dissector, "mbrtu");
-    EXPECT_EQ(pdu->port_type, upper_pdu::kPortTypeTcp);
-    EXPECT_EQ(pdu->source_port, direction == PduDirection::kRequest ? 1U : 502U);
-    EXPECT_EQ(pdu->destination_port, direction == PduDirection::kRequest ? 502U : 1U);
-    EXPECT_EQ(pdu->direction(), direction);
-    EXPECT_EQ(Bytes(pdu->payload.begin(), pdu->payload.end()), kAdu);
+    UpperPdu pdu;
+    ASSERT_TRUE(parse_upper_pdu(out, pdu, error)) << error;
+    EXPECT_EQ(pdu.dissector, "mbrtu");
+    EXPECT_EQ(pdu.port_type, upper_pdu::kPortTypeTcp);
+    EXPECT_EQ(pdu.source_port, direction == PduDirection::kRequest ? 1U : 502U);
+    EXPECT_EQ(pdu.destination_port, direction == PduDirection::kRequest ? 502U : 1U);
+    EXPECT_EQ(pdu.direction(), direction);
+    EXPECT_EQ(Bytes(pdu.payload.begin(), pdu.payload.end()), kAdu);
   }
 }
 
@@ -42,32 +42,33 @@ TEST(UpperPdu, ProtocolColumnAndUnpaddedNames) {
   Bytes out;
   build_upper_pdu(kAdu, {"mbrtu", PduDirection::kUnknown, "Modbus RTU"}, out);
   std::string error;
-  auto pdu = parse_upper_pdu(out, error);
-  ASSERT_TRUE(pdu) << error;
-  EXPECT_EQ(pdu->protocol_column, "Modbus RTU");
-  EXPECT_EQ(pdu->direction(), PduDirection::kUnknown);
+  UpperPdu pdu;
+  ASSERT_TRUE(parse_upper_pdu(out, pdu, error)) << error;
+  EXPECT_EQ(pdu.protocol_column, "Modbus RTU");
+  EXPECT_EQ(pdu.direction(), PduDirection::kUnknown);
   // Other writers may use unpadded names and tags we do not know (IPv4 source here).
   const Bytes foreign = {0x00, 0x14, 0x00, 0x04, 10,   0,    0,   1,   0x00,
                          0x0C, 0x00, 0x05, 'm',  'b',  'r',  't', 'u', 0x00,
                          0x00, 0x00, 0x00, 0x01, 0x07, 0xE2, 0x41};
-  pdu = parse_upper_pdu(foreign, error);
-  ASSERT_TRUE(pdu) << error;
-  EXPECT_EQ(pdu->dissector, "mbrtu");
-  EXPECT_EQ(pdu->payload.size(), 4U);
+  ASSERT_TRUE(parse_upper_pdu(foreign, pdu, error)) << error;
+  EXPECT_EQ(pdu.dissector, "mbrtu");
+  EXPECT_TRUE(pdu.protocol_column.empty());  // nothing of the record parsed before is left
+  EXPECT_EQ(pdu.payload.size(), 4U);
 }
 
 TEST(UpperPdu, MalformedTlvsSayWhere) {
   Bytes out;
   build_upper_pdu(kAdu, {}, out);
   std::string error;
+  UpperPdu pdu;
   // Cut inside the TLV list (before the end tag's 4 bytes are complete).
   for (std::size_t cut = 0; cut < 16; ++cut) {
-    EXPECT_FALSE(parse_upper_pdu(std::span(out).first(cut), error)) << cut;
+    EXPECT_FALSE(parse_upper_pdu(std::span(out).first(cut), pdu, error)) << cut;
     EXPECT_NE(error.find("byte "), std::string::npos);
   }
   Bytes long_tag = out;
   long_tag[3] = 0xF0;
-  EXPECT_FALSE(parse_upper_pdu(long_tag, error));
+  EXPECT_FALSE(parse_upper_pdu(long_tag, pdu, error));
   EXPECT_EQ(error, "byte 0: tag 12 of length 240 runs past the end of the record");
 }
 

@@ -248,6 +248,43 @@ TEST(Pcapng, DecimalResolutionsFinerAndCoarserThanNanoseconds) {
   EXPECT_FALSE(pcapng_ticks_to_nanos(1, 0, std::int64_t{1} << 62));
 }
 
+// The reader converts the common interfaces (decimal if_tsresol up to nanoseconds, no
+// offset) in line: every interface and tick count gives what the general conversion gives,
+// a timestamp past int64 nanoseconds included (an error naming the offset of the ticks).
+TEST(Pcapng, PacketTimesAreTheGeneralConversionsForEveryInterface) {
+  const std::uint64_t big = std::uint64_t{1} << 62U;
+  for (const std::optional<std::uint8_t> tsresol :
+       {std::optional<std::uint8_t>{}, std::optional<std::uint8_t>{0},
+        std::optional<std::uint8_t>{3}, std::optional<std::uint8_t>{6},
+        std::optional<std::uint8_t>{9}, std::optional<std::uint8_t>{12},
+        std::optional<std::uint8_t>{0x80 | 20}}) {
+    for (const std::optional<std::int64_t> tsoffset :
+         {std::optional<std::int64_t>{}, std::optional<std::int64_t>{-5}}) {
+      for (const std::uint64_t ticks : {std::uint64_t{0}, std::uint64_t{1'700'000'000'123'456},
+                                        big / 1000, big, ~std::uint64_t{0}}) {
+        SCOPED_TRACE(fmt::format("tsresol {} tsoffset {} ticks {}", tsresol.value_or(6),
+                                 tsoffset.value_or(0), ticks));
+        const auto want = pcapng_ticks_to_nanos(ticks, tsresol.value_or(6), tsoffset.value_or(0));
+        const Bytes file = concat({shb(), idb(252, tsresol, tsoffset), epb(0, ticks, kRequest)});
+        const ReadResult r = read_all(file);
+        if (want) {
+          ASSERT_FALSE(r.error) << *r.error;
+          ASSERT_EQ(r.packets.size(), 1U);
+          EXPECT_EQ(r.packets[0].t, *want);
+        } else {
+          ASSERT_TRUE(r.error);
+          EXPECT_NE(r.error->find("does not fit in 64-bit nanoseconds"), std::string::npos)
+              << *r.error;
+          // The ticks sit 12 bytes into the packet block, which follows the SHB and the IDB.
+          const std::size_t ticks_at = shb().size() + idb(252, tsresol, tsoffset).size() + 12;
+          EXPECT_NE(r.error->find(fmt::format("offset {}", ticks_at)), std::string::npos)
+              << *r.error;
+        }
+      }
+    }
+  }
+}
+
 TEST(Pcapng, UnknownBlocksAreSkippedByLength) {
   const Bytes custom = block(0x00000BAD, Bytes(20, 0xEE));
   const Bytes statistics = block(0x00000005, Bytes(16, 0));

@@ -45,10 +45,10 @@ void print_summary(const LiveSummary& s) {
   fmt::print(stderr,
              "rtuscope: {:.1f} s, {} bytes in {} reads: {} frames ({} with CRC errors, {} with "
              "issues), {} transactions, {} timeouts, {} noise records, {} bytes with line "
-             "errors, {} disconnects\n",
+             "errors, {} disconnects, {} idle wake-ups\n",
              to_seconds(s.duration), s.bytes, s.chunks, s.frames, s.crc_errors,
              s.frames_with_issues, s.transactions, s.timeouts, s.noise_records, s.line_error_bytes,
-             s.disconnects);
+             s.disconnects, s.idle_wakeups);
   if (s.timing_resolution > s.declared_resolution) {
     fmt::print(stderr,
                "rtuscope: the reads came in batches: gaps below {:.1f} ms were not observable "

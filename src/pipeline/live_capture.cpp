@@ -149,7 +149,7 @@ void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   if (!idle_armed_) {
     arm_idle_for_pipeline();
   } else if (const Nanos due = pipeline_->next_idle_decision();
-             due != kUnknownTime && due < idle_due_) {
+             due != kUnknownTime && due + options_.idle_slack < idle_due_) {
     arm_idle_for_pipeline();
   }
 }
@@ -191,9 +191,11 @@ void LiveCapture::schedule_reopen(Port& port) {
 }
 
 // The idle timer runs only while the pipeline has something an idle moment could decide,
-// and wakes up when that can first be decided: on a quiet line the capture sleeps until the
-// next read, and a request waiting for its answer costs one wake-up, not one every
-// idle_period. Waking up was most of what a live run cost on a quiet or lightly used bus.
+// and wakes up idle_slack after that can first be decided: on a quiet line the capture
+// sleeps until the next read, and a request waiting for its answer costs one wake-up, not one
+// every idle_period. Waking up was most of what a live run cost on a quiet or lightly used
+// bus; on a busy one, a wake-up at the end of every frame was, where the next frame's first
+// read a moment later would have decided the same (the slack lets it).
 void LiveCapture::arm_idle_for_pipeline() {
   if (!pipeline_->awaits_idle()) {
     idle_armed_ = false;  // the next read arms it again
@@ -202,7 +204,8 @@ void LiveCapture::arm_idle_for_pipeline() {
   const Nanos now = clock_.now();
   const Nanos due = pipeline_->next_idle_decision();
   // Unknown, or already past and still undecided: try again after the usual period.
-  schedule_idle(due != kUnknownTime && due > now ? due - now : options_.idle_period);
+  schedule_idle(due != kUnknownTime && due > now ? due - now + options_.idle_slack
+                                                 : options_.idle_period);
 }
 
 void LiveCapture::schedule_idle(Nanos delay) {
@@ -211,6 +214,13 @@ void LiveCapture::schedule_idle(Nanos delay) {
   idle_timer_.expires_after(as_duration(delay));
   idle_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec || stopped_) return;
+    ++summary_.idle_wakeups;
+    // Reads since it was armed left nothing that can be decided yet: wait for what they left.
+    if (const Nanos due = pipeline_->next_idle_decision();
+        due != kUnknownTime && due > clock_.now()) {
+      arm_idle_for_pipeline();
+      return;
+    }
     // The line is quiet only if no bytes wait in a driver, and no read that completed
     // meanwhile waits to be handled: the check is posted behind such handlers, with the
     // time taken now, so a late read is pushed (and seen as newer) before it.

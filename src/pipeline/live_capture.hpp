@@ -5,10 +5,10 @@
 //  * Chunks of all ports are stamped on arrival on one CaptureClock and handled on one
 //    thread, so they reach the pipeline merged in time order. With two ports (the two
 //    directions of an RS-232/RS-422 link) each chunk keeps its port index for recorders.
-//  * A timer calls DecodePipeline::idle() when what the pipeline holds can first be decided
-//    (DecodePipeline::next_idle_decision), so a frame is printed once the line has been
-//    quiet long enough, not when more bytes come; with nothing undecided it sleeps until the
-//    next read. The pipeline decides at the same point of the byte stream as a replay of
+//  * A timer calls DecodePipeline::idle() a little (LiveOptions::idle_slack) after what the
+//    pipeline holds can first be decided (DecodePipeline::next_idle_decision), so a frame is
+//    printed once the line has been quiet long enough, not when more bytes come; with nothing
+//    undecided it sleeps until the next read. The pipeline decides at the same point of the byte stream as a replay of
 //    the recording.
 //  * A port that fails (USB adapter unplugged) is reported, recorded as a gap, and reopened
 //    every `reopen_period` until it comes back; the capture goes on.
@@ -51,6 +51,11 @@ struct LiveOptions {
   LineSettings line;
   Nanos response_timeout = 1000 * kNanosPerMilli;
   Nanos idle_period = 5 * kNanosPerMilli;
+  // How much later than the first possible moment the idle timer decides. A read that comes
+  // meanwhile decides the same, at no wake-up of its own, so on a busy line the timer wakes
+  // up about once per slack instead of after every frame; on a quiet one a frame is printed
+  // this much later. What is decided never depends on it (DecodePipeline::idle).
+  Nanos idle_slack = 20 * kNanosPerMilli;
   Nanos reopen_period = 1 * kNanosPerSecond;
   Nanos flush_period = 500 * kNanosPerMilli;
   Nanos duration = 0;                 // stop by itself after this long; 0 = until stop()
@@ -68,6 +73,7 @@ struct LiveSummary {
   std::uint64_t frames_with_issues = 0;
   std::uint64_t line_error_bytes = 0;
   std::uint64_t disconnects = 0;
+  std::uint64_t idle_wakeups = 0;  // times the idle timer woke the capture up
   std::uint64_t reconnects = 0;       // ports opened again after a disconnect
   Nanos last_byte_at = kUnknownTime;  // capture time of the last read that had bytes
   Nanos duration = 0;

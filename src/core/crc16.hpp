@@ -2,6 +2,7 @@
 // CRC-16/MODBUS (reflected poly 0x8005 = 0xA001, init 0xFFFF, no final xor), appended to
 // an ADU low byte first. Running it over a whole ADU including its CRC yields 0.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -23,6 +24,22 @@ constexpr std::array<std::uint16_t, 256> make_table() {
   return table;
 }
 inline constexpr std::array<std::uint16_t, 256> kTable = make_table();
+
+// Slicing by eight: kSlices[k][i] is the CRC register after byte i is followed by k zero
+// bytes, so eight bytes are folded in with eight independent lookups instead of a chain of
+// eight dependent ones.
+constexpr std::array<std::array<std::uint16_t, 256>, 8> make_slices() {
+  std::array<std::array<std::uint16_t, 256>, 8> slices{};
+  slices[0] = make_table();
+  for (std::size_t k = 1; k < slices.size(); ++k) {
+    for (std::size_t i = 0; i < 256; ++i) {
+      const std::uint16_t prev = slices[k - 1][i];
+      slices[k][i] = static_cast<std::uint16_t>((prev >> 8U) ^ slices[0][prev & 0xFFU]);
+    }
+  }
+  return slices;
+}
+inline constexpr std::array<std::array<std::uint16_t, 256>, 8> kSlices = make_slices();
 }  // namespace crc_detail
 
 // Continues a CRC over one more byte; start with kCrcInit. Inline: the framer's CRC scans

@@ -37,6 +37,11 @@ class ByteArena {
     }
     return run;
   }
+  // Appends one error-free byte to `run`, which must be the last run added.
+  void extend(Run& run, std::uint8_t byte) {
+    bytes_.push_back(byte);
+    ++run.size;
+  }
   [[nodiscard]] std::span<const std::uint8_t> bytes(const Run& run) const {
     return {bytes_.data() + run.at, run.size};
   }

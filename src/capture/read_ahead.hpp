@@ -61,6 +61,8 @@ class ReadAhead final : public CaptureReader {
 
   void run();  // the reading thread
   void deliver(const Item& item, const Batch& batch, CaptureConsumer& to);
+  // The next one-byte read of a run: true when it was the run's last.
+  bool deliver_byte_read(const Item& item, const Batch& batch, CaptureConsumer& to);
 
   std::unique_ptr<CaptureReader> reader_;
   CaptureConsumer* alongside_;
@@ -71,6 +73,7 @@ class ReadAhead final : public CaptureReader {
   std::unique_ptr<HandoffQueue<Batch>> queue_;
   std::unique_ptr<Batch> current_;  // being delivered (reading thread never touches it)
   std::size_t next_item_ = 0;
+  std::uint32_t next_byte_ = 0;  // within a run of one-byte reads (Item::Kind::kByteReads)
   bool ended_ = false;
   std::thread thread_;  // last: started once everything above exists
 };

@@ -101,6 +101,59 @@ TEST(ReadAhead, CrossesBatchesAndThrowsTheReadersErrorAfterEverythingBeforeIt) {
   }
 }
 
+// Reads of one byte travel in shared items while they follow one another on one port with
+// no error and no start time; each of those conditions ends a run. A scripted reader mixes
+// them all, over several batches, and the transcript must be the reader's own.
+class ScriptedReader final : public CaptureReader {
+ public:
+  bool read(CaptureConsumer& to) override {
+    if (step_ == kSteps) {
+      to.on_end(static_cast<Nanos>(10 * kSteps));
+      ++step_;
+      return true;
+    }
+    if (step_ > kSteps) return false;
+    const std::size_t i = step_++;
+    byte_ = static_cast<std::uint8_t>(i * 7);
+    Chunk chunk;
+    chunk.t_end = static_cast<Nanos>(10 * i);
+    chunk.bytes = {&byte_, 1};
+    chunk.origin = origin_++;
+    if (i % 97 == 0) ++origin_;  // a line that held no read
+    chunk.port = (i / 50) % 3 == 2 ? 1 : 0;
+    if (i % 331 == 0) chunk.errors = {&error_, 1};
+    if (i % 409 == 0) chunk.t_first_start = chunk.t_end - 5;
+    if (i % 613 == 0) {
+      chunk.bytes = {pair_, 2};
+      origin_ += 1;
+    }
+    if (i % 1009 == 0) {
+      to.on_frame({pair_, 2}, chunk.t_end, chunk.origin);
+      return true;
+    }
+    to.on_chunk(chunk);
+    return true;
+  }
+  [[nodiscard]] std::string name() const override { return "scripted"; }
+
+  static constexpr std::size_t kSteps = 2 * ReadAhead::kBatchItems + 123;
+
+ private:
+  std::size_t step_ = 0;
+  std::uint64_t origin_ = 0;
+  std::uint8_t byte_ = 0;
+  std::uint8_t error_ = kParityError;
+  std::uint8_t pair_[2] = {0xAB, 0xCD};
+};
+
+TEST(ReadAhead, OneByteReadsComeOutAsTheReaderGaveThemWhateverEndsTheirRuns) {
+  ScriptedReader direct;
+  const auto expected = transcript_of(direct);
+  ReadAhead ahead(std::make_unique<ScriptedReader>());
+  EXPECT_EQ(transcript_of(ahead), expected);
+  EXPECT_EQ(expected.size(), ScriptedReader::kSteps + 1);
+}
+
 TEST(ReadAhead, CanBeDroppedBeforeTheEnd) {
   const std::string path = write_long_capture(false);
   for (const int items : {0, 1, 5000}) {

@@ -267,7 +267,8 @@ FramingAhead::Setup framing_setup(const CaptureSurvey& survey, const ReplayOptio
 // pass may end early (options.enough: it then ends at a reader's item, which only a ReadAhead
 // can tell). Where reads hold one byte each, parsing costs as much as framing, and where the
 // caller asks (ReplayOptions::parse_ahead): the reader then runs in a ReadAhead of its own
-// inside the FramingAhead. `alongside` (optional) sees every item on the parsing thread.
+// inside the FramingAhead. `alongside` (optional) sees every item on the thread that frames
+// them, or on the parsing thread where framing stays on this one.
 class DecodingRun {
  public:
   DecodingRun(std::unique_ptr<CaptureReader> reader, const CaptureSurvey& survey,
@@ -278,8 +279,8 @@ class DecodingRun {
       return;
     }
     if (survey.single_byte_reads || options.parse_ahead) {
-      parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
-      alongside = nullptr;
+      // `alongside` stays with the framing thread: parsing is the busiest of the three.
+      parser_ = std::make_unique<ReadAhead>(std::move(reader));
     }
     // The parser, when there is one, is owned by the framing from here on.
     parser_in_framing_ = parser_.get();

@@ -57,7 +57,7 @@ struct ReadAhead::Batch {
 // Copies what the reader delivers into a batch.
 class ReadAhead::Collector final : public CaptureConsumer {
  public:
-  explicit Collector(Batch& batch) : batch_(batch) {}
+  Collector(Batch& batch, bool records) : batch_(batch), records_(records) {}
   // Items are filled in place in the batch: one built on the stack and copied in was
   // stored and reloaded in pieces of different widths, which stalls the copy.
   void on_chunk(const Chunk& chunk) override {
@@ -71,10 +71,10 @@ class ReadAhead::Collector final : public CaptureConsumer {
     item.run = batch_.arena.add(chunk.bytes, chunk.errors);
   }
   void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
-    new_item(Item::Kind::kFrame, t_start, origin).run = batch_.arena.add(adu);
+    if (records_) new_item(Item::Kind::kFrame, t_start, origin).run = batch_.arena.add(adu);
   }
   void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override {
-    new_item(Item::Kind::kNoise, t_start, origin).run = batch_.arena.add(bytes);
+    if (records_) new_item(Item::Kind::kNoise, t_start, origin).run = batch_.arena.add(bytes);
   }
   void on_end(Nanos t) override { new_item(Item::Kind::kEnd, t, 0); }
 
@@ -104,11 +104,14 @@ class ReadAhead::Collector final : public CaptureConsumer {
     return item;
   }
   Batch& batch_;
+  bool records_;
 };
 
-ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside)
+ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside,
+                     bool hand_over_records)
     : reader_(std::move(reader)),
       alongside_(alongside),
+      hand_over_records_(hand_over_records),
       name_(reader_->name()),
       input_size_(reader_->input_size()),
       queue_(std::make_unique<HandoffQueue<Batch>>(kBatches)) {
@@ -126,7 +129,7 @@ void ReadAhead::run() {
     auto batch = queue_->acquire();
     if (batch == nullptr) return;
     batch->clear();
-    Collector collector(*batch);
+    Collector collector(*batch, hand_over_records_);
     std::optional<ConsumerTee> tee;
     if (alongside_ != nullptr) tee.emplace(*alongside_, collector);
     CaptureConsumer& to = tee ? static_cast<CaptureConsumer&>(*tee) : collector;

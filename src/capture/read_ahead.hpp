@@ -31,7 +31,10 @@ class ReadAhead final : public CaptureReader {
   // source() once reading ended. `alongside` (optional, not owned) sees every item as well,
   // on the reading thread, just before it is batched: a survey that costs the decoding core
   // nothing. It is the reading thread's until read() has returned false or thrown.
-  explicit ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside = nullptr);
+  // `hand_over_records` false: the reader's frame and noise records are not handed over (only
+  // `alongside` sees them), for a consumer that re-frames the raw reads and leaves them aside.
+  explicit ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside = nullptr,
+                     bool hand_over_records = true);
   // Stops the reading thread (reading need not have reached the end) and waits for it.
   ~ReadAhead() override;
   ReadAhead(const ReadAhead&) = delete;
@@ -66,6 +69,7 @@ class ReadAhead final : public CaptureReader {
 
   std::unique_ptr<CaptureReader> reader_;
   CaptureConsumer* alongside_;
+  bool hand_over_records_;
   std::string name_;
   std::uint64_t input_size_ = 0;
   std::uint64_t bytes_read_ = 0;

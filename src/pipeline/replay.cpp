@@ -280,7 +280,9 @@ class DecodingRun {
     }
     if (survey.single_byte_reads || options.parse_ahead) {
       // `alongside` stays with the framing thread: parsing is the busiest of the three.
-      parser_ = std::make_unique<ReadAhead>(std::move(reader));
+      // Frame records that the framing leaves aside (it re-frames the raw reads) are not
+      // handed over: in a native pcapng, one record of every frame.
+      parser_ = std::make_unique<ReadAhead>(std::move(reader), nullptr, !survey.use_chunks);
     }
     // The parser, when there is one, is owned by the framing from here on.
     parser_in_framing_ = parser_.get();

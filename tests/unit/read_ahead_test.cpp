@@ -154,6 +154,24 @@ TEST(ReadAhead, OneByteReadsComeOutAsTheReaderGaveThemWhateverEndsTheirRuns) {
   EXPECT_EQ(expected.size(), ScriptedReader::kSteps + 1);
 }
 
+// Without records handed over, the reads and the end come out as before, the frame and
+// noise records not at all; a consumer alongside still sees them.
+TEST(ReadAhead, LeavesRecordsAsideWhenAskedButAConsumerAlongsideSeesThem) {
+  ScriptedReader direct;
+  auto expected = transcript_of(direct);
+  Transcript alongside;
+  {
+    ReadAhead ahead(std::make_unique<ScriptedReader>(), &alongside, false);
+    const auto got = transcript_of(ahead);
+    EXPECT_EQ(alongside.lines, expected);
+    std::erase_if(expected, [](const std::string& line) {
+      return line.rfind("frame ", 0) == 0 || line.rfind("noise ", 0) == 0;
+    });
+    EXPECT_EQ(got, expected);
+  }
+  EXPECT_LT(expected.size(), alongside.lines.size());
+}
+
 TEST(ReadAhead, CanBeDroppedBeforeTheEnd) {
   const std::string path = write_long_capture(false);
   for (const int items : {0, 1, 5000}) {

@@ -36,9 +36,9 @@ struct ReadAhead::Batch {
   std::vector<Item> items;
   ByteArena arena;
   std::vector<Nanos> byte_times;  // of the reads of kByteReads items, in order
-  std::uint64_t bytes_read = 0;  // the reader's progress once the batch was full
-  bool last = false;             // the reader ended (or failed) after these items
-  std::exception_ptr error;      // how it failed, thrown after the items
+  std::uint64_t bytes_read = 0;   // the reader's progress once the batch was full
+  bool last = false;              // the reader ended (or failed) after these items
+  std::exception_ptr error;       // how it failed, thrown after the items
 
   void clear() {
     items.clear();
@@ -90,8 +90,8 @@ class ReadAhead::Collector final : public CaptureConsumer {
         return;
       }
     }
-    Item& item = new_item(Item::Kind::kByteReads,
-                          static_cast<Nanos>(batch_.byte_times.size()), chunk.origin);
+    Item& item = new_item(Item::Kind::kByteReads, static_cast<Nanos>(batch_.byte_times.size()),
+                          chunk.origin);
     item.port = chunk.port;
     item.run = batch_.arena.add(chunk.bytes);
     batch_.byte_times.push_back(chunk.t_end);

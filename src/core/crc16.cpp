@@ -12,8 +12,8 @@ std::uint16_t crc16(std::span<const std::uint8_t> bytes, std::uint16_t crc) {
   for (; n >= 8; n -= 8, p += 8) {
     const unsigned low = (crc ^ p[0]) & 0xFFU;
     const unsigned high = ((crc >> 8U) ^ p[1]) & 0xFFU;
-    crc = static_cast<std::uint16_t>(t[7][low] ^ t[6][high] ^ t[5][p[2]] ^ t[4][p[3]] ^
-                                     t[3][p[4]] ^ t[2][p[5]] ^ t[1][p[6]] ^ t[0][p[7]]);
+    crc = static_cast<std::uint16_t>(t[7][low] ^ t[6][high] ^ t[5][p[2]] ^ t[4][p[3]] ^ t[3][p[4]] ^
+                                     t[2][p[5]] ^ t[1][p[6]] ^ t[0][p[7]]);
   }
   for (; n > 0; --n, ++p) crc = crc16_update(crc, *p);
   return crc;

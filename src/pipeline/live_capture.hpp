@@ -8,8 +8,8 @@
 //  * A timer calls DecodePipeline::idle() a little (LiveOptions::idle_slack) after what the
 //    pipeline holds can first be decided (DecodePipeline::next_idle_decision), so a frame is
 //    printed once the line has been quiet long enough, not when more bytes come; with nothing
-//    undecided it sleeps until the next read. The pipeline decides at the same point of the byte stream as a replay of
-//    the recording.
+//    undecided it sleeps until the next read. The pipeline decides at the same point of the byte
+//    stream as a replay of the recording.
 //  * A port that fails (USB adapter unplugged) is reported, recorded as a gap, and reopened
 //    every `reopen_period` until it comes back; the capture goes on.
 //  * stop() (SIGINT/SIGTERM in the command) closes the ports and flushes everything.
@@ -73,7 +73,7 @@ struct LiveSummary {
   std::uint64_t frames_with_issues = 0;
   std::uint64_t line_error_bytes = 0;
   std::uint64_t disconnects = 0;
-  std::uint64_t idle_wakeups = 0;  // times the idle timer woke the capture up
+  std::uint64_t idle_wakeups = 0;     // times the idle timer woke the capture up
   std::uint64_t reconnects = 0;       // ports opened again after a disconnect
   Nanos last_byte_at = kUnknownTime;  // capture time of the last read that had bytes
   Nanos duration = 0;

@@ -37,8 +37,8 @@ TEST(Crc16, SpanIsTheByteByByteCrcForEveryLengthAndStart) {
     state = state * 1103515245U + 12345U;
     b = static_cast<std::uint8_t>(state >> 16U);
   }
-  for (const std::uint16_t start : {kCrcInit, std::uint16_t{0}, std::uint16_t{0x1234},
-                                    std::uint16_t{0xA5F0}}) {
+  for (const std::uint16_t start :
+       {kCrcInit, std::uint16_t{0}, std::uint16_t{0x1234}, std::uint16_t{0xA5F0}}) {
     for (std::size_t offset = 0; offset < 3; ++offset) {
       for (std::size_t len = 0; len + offset <= bytes.size(); ++len) {
         const std::span<const std::uint8_t> span(bytes.data() + offset, len);

@@ -23,7 +23,6 @@ constexpr std::array<std::uint16_t, 256> make_table() {
   }
   return table;
 }
-inline constexpr std::array<std::uint16_t, 256> kTable = make_table();
 
 // Slicing by eight: kSlices[k][i] is the CRC register after byte i is followed by k zero
 // bytes, so eight bytes are folded in with eight independent lookups instead of a chain of
@@ -40,6 +39,8 @@ constexpr std::array<std::array<std::uint16_t, 256>, 8> make_slices() {
   return slices;
 }
 inline constexpr std::array<std::array<std::uint16_t, 256>, 8> kSlices = make_slices();
+// The byte-at-a-time table is the first slice.
+inline constexpr const std::array<std::uint16_t, 256>& kTable = kSlices[0];
 }  // namespace crc_detail
 
 // Continues a CRC over one more byte; start with kCrcInit. Inline: the framer's CRC scans

@@ -43,7 +43,7 @@ void setup_decode(CLI::App& app, int& exit_code) {
     ProgressLine progress(progress_wanted(args->quiet, args->output));
     progress.attach(options, "decoding");
     OutputStream out(args->output);
-    const auto writer = make_record_writer(args->format, out, false);
+    const auto writer = make_record_writer(args->format, out);
     dissect::DeviceTable no_devices;  // plain Modbus when no slave is named
     dissect::DeviceStage stage(devices ? devices->table : no_devices, *writer);
     replay_capture(files, options, stage);

@@ -71,9 +71,12 @@ std::string bus_name_for(const LiveSessionSetup& setup) {
 
 void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
                       const LiveSessionHooks& hooks) {
+  // Records reach the output whole, once the handler that made them (a read, an idle
+  // moment) is done: one write per read rather than one per record (see the loop below).
   OutputStream out(setup.output);
+  out.keep_records_whole();
   const auto writer =
-      setup.frames_sink != nullptr ? nullptr : make_record_writer(setup.format, out, true);
+      setup.frames_sink != nullptr ? nullptr : make_record_writer(setup.format, out);
   std::unique_ptr<PcapngRecorder> recorder;
   if (!setup.record_path.empty()) {
     recorder = std::make_unique<PcapngRecorder>(setup.record_path, setup.rotation);
@@ -160,6 +163,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
     while (!capture.stopped()) {
       try {
         io.run_one();
+        out.flush();
       } catch (const OutputError& e) {
         // Said when the run ends, as the reason it exits with status 1.
         if (!output_error) output_error.emplace(e);

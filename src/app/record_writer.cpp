@@ -5,9 +5,8 @@
 
 namespace rtu::app {
 
-std::unique_ptr<RecordSink> make_record_writer(const std::string& format, OutputStream& out,
-                                               bool flush_each) {
-  return find_format_or_default(record_formats(), format).factory(out, flush_each);
+std::unique_ptr<RecordSink> make_record_writer(const std::string& format, OutputStream& out) {
+  return find_format_or_default(record_formats(), format).factory(out);
 }
 
 }  // namespace rtu::app

@@ -10,9 +10,8 @@
 namespace rtu::app {
 
 // `format` is a name in record_formats() ("text", "jsonl"; others give text). Device registers
-// are shown where a device stage before the writer named them. `flush_each`: every record
-// reaches `out` at once (live output), else buffered.
+// are shown where a device stage before the writer named them.
 [[nodiscard]] std::unique_ptr<RecordSink> make_record_writer(const std::string& format,
-                                                             OutputStream& out, bool flush_each);
+                                                             OutputStream& out);
 
 }  // namespace rtu::app

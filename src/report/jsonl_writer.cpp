@@ -36,7 +36,7 @@ void write_issues(JsonWriter& json, const IssueSet& issues) {
 
 }  // namespace
 
-JsonlWriter::JsonlWriter(OutputStream& out, bool flush_each) : out_(out), flush_each_(flush_each) {}
+JsonlWriter::JsonlWriter(OutputStream& out) : out_(out) {}
 
 void JsonlWriter::on_capture(const CaptureInfo& info) {
   buffer_.clear();
@@ -120,7 +120,6 @@ void JsonlWriter::on_record(Record& record) {
   json.end_object();
   buffer_.push_back('\n');
   out_.write(buffer_);
-  if (flush_each_) out_.flush();
 }
 
 void JsonlWriter::on_finish() {

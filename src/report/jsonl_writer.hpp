@@ -17,8 +17,8 @@ namespace rtu {
 
 class JsonlWriter : public RecordSink {
  public:
-  // `flush_each`: every record reaches `out` at once (live output), else buffered.
-  explicit JsonlWriter(OutputStream& out, bool flush_each = false);
+  // Each record is handed to `out` whole; when it reaches the file is `out`'s choice.
+  explicit JsonlWriter(OutputStream& out);
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
@@ -26,7 +26,6 @@ class JsonlWriter : public RecordSink {
 
  private:
   OutputStream& out_;
-  bool flush_each_;
   fmt::memory_buffer buffer_;
 };
 

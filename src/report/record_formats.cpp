@@ -7,8 +7,8 @@ namespace rtu {
 namespace {
 
 template <typename Writer>
-std::unique_ptr<RecordSink> make_writer(OutputStream& out, bool flush_each) {
-  return std::make_unique<Writer>(out, flush_each);
+std::unique_ptr<RecordSink> make_writer(OutputStream& out) {
+  return std::make_unique<Writer>(out);
 }
 
 }  // namespace

@@ -9,9 +9,8 @@
 
 namespace rtu {
 
-// Device registers are shown where a device stage before the writer named them;
-// `flush_each`: every record reaches `out` at once (live output), else buffered.
-using RecordWriterFactory = std::unique_ptr<RecordSink> (*)(OutputStream& out, bool flush_each);
+// Device registers are shown where a device stage before the writer named them.
+using RecordWriterFactory = std::unique_ptr<RecordSink> (*)(OutputStream& out);
 
 // "text" (the default, first) and "jsonl".
 const FormatTable<RecordWriterFactory>& record_formats();

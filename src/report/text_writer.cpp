@@ -46,7 +46,7 @@ void append_frame_summary(fmt::memory_buffer& out, const Record& frame) {
   out.append(text);
 }
 
-TextWriter::TextWriter(OutputStream& out, bool flush_each) : out_(out), flush_each_(flush_each) {}
+TextWriter::TextWriter(OutputStream& out) : out_(out) {}
 
 void TextWriter::on_capture(const CaptureInfo& info) {
   buffer_.clear();
@@ -127,7 +127,6 @@ void TextWriter::on_record(Record& record) {
   }
   buffer_.push_back('\n');
   out_.write(buffer_);
-  if (flush_each_) out_.flush();
 }
 
 void TextWriter::on_finish() {

@@ -12,8 +12,8 @@ namespace rtu {
 
 class TextWriter : public RecordSink {
  public:
-  // `flush_each`: every record reaches `out` at once (live output), else buffered.
-  explicit TextWriter(OutputStream& out, bool flush_each = false);
+  // Each record is handed to `out` whole; when it reaches the file is `out`'s choice.
+  explicit TextWriter(OutputStream& out);
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
@@ -21,7 +21,6 @@ class TextWriter : public RecordSink {
 
  private:
   OutputStream& out_;
-  bool flush_each_;
   fmt::memory_buffer buffer_;
   Nanos shown_day_ = kUnknownTime;  // UTC day of the last date line (wall-clock captures)
 };

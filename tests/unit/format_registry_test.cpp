@@ -101,8 +101,8 @@ TEST(FormatRegistry, EachRecordFormatMakesItsWriter) {
   const auto* jsonl = find_format(record_formats(), "jsonl");
   ASSERT_NE(text, nullptr);
   ASSERT_NE(jsonl, nullptr);
-  const auto text_writer = text->factory(out, false);
-  const auto jsonl_writer = jsonl->factory(out, false);
+  const auto text_writer = text->factory(out);
+  const auto jsonl_writer = jsonl->factory(out);
   EXPECT_NE(dynamic_cast<TextWriter*>(text_writer.get()), nullptr);
   EXPECT_NE(dynamic_cast<JsonlWriter*>(jsonl_writer.get()), nullptr);
 }

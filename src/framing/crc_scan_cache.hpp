@@ -55,13 +55,40 @@ struct CrcScan {
     }
     return false;
   }
+
+  // Runs the CRC over `bytes` from where the scan stands; `bytes` starts at byte `scanned`.
+  void extend(const std::uint8_t* bytes, std::size_t count) {
+    std::uint16_t c = crc;
+    std::size_t length = scanned;
+    for (std::size_t i = 0; i < count; ++i) {
+      c = crc16_update(c, bytes[i]);
+      ++length;
+      if (c == 0 && length >= kMinAdu) note_zero(length);
+    }
+    crc = c;
+    scanned = static_cast<std::uint16_t>(length);
+  }
 };
+
+// Extends four scans by counts[k] bytes each, side by side; scan k's next byte is from[k][0].
+// Each CRC step waits on the table look-up of the step before it, so one scan runs at the
+// speed of that chain of look-ups; four independent chains interleaved take about the time
+// of one. This is what a sweep over every start of a stretch of bytes that forms no frame
+// costs (traffic of unknown function codes with no silence the timestamps show): up to
+// kMaxAdu steps per start.
+void extend_side_by_side(std::array<const std::uint8_t*, 4> from, std::array<CrcScan*, 4> scans,
+                         std::array<std::size_t, 4> counts);
 
 // One scan per start the framer may hold undecided (kMaxPending = 4 * kMaxAdu).
 // Direct-mapped on the start position; a collision only costs a rescan.
 class CrcScanCache {
  public:
   // The scan for `start` made with `resolution`, or a fresh one in its place.
+  // The scan kept for `start` with `resolution`, or nullptr.
+  [[nodiscard]] const CrcScan* find(std::uint64_t start, Nanos resolution) const {
+    const CrcScan& scan = slots_[start % kSlots];
+    return scan.start == start && scan.resolution == resolution ? &scan : nullptr;
+  }
   CrcScan& at(std::uint64_t start, Nanos resolution) {
     CrcScan& scan = slots_[start % kSlots];
     if (scan.start != start || scan.resolution != resolution) {

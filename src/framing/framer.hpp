@@ -144,6 +144,8 @@ class Framer {
   bool boundary_at(std::size_t pos) const;
   bool silence_before(Nanos gap) const;
   CrcScan& extended_scan(std::size_t pos) const;
+  bool sweeping_from(std::size_t pos) const;
+  void scan_four_starts(std::size_t pos) const;
   bool contiguous_at(std::size_t pos) const;
   bool is_turnaround_glitch(const Record& noise) const;
   bool plausible_start(std::size_t pos) const;

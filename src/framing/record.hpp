@@ -18,6 +18,7 @@ struct DeviceReading;  // what the device stage adds; declared only, so no inclu
 }
 
 inline constexpr std::size_t kMaxAdu = 256;  // MODBUS over Serial Line §2.5.1
+inline constexpr std::size_t kMinAdu = 4;    // address + function + CRC
 
 enum class Role : std::uint8_t { kUnknown, kRequest, kResponse };
 

@@ -74,6 +74,22 @@ const Point* Space::point_from(std::uint32_t addr) const {
   return it == points.end() ? nullptr : &*it;
 }
 
+std::uint32_t Space::defined_in(std::uint32_t begin, std::uint32_t end) const {
+  if (begin >= end) return 0;
+  // The first point that ends after `begin`: points are sorted and disjoint, so their ends
+  // are sorted too.
+  auto it = std::upper_bound(
+      points.begin(), points.end(), begin,
+      [this](std::uint32_t a, const Point& p) { return a < p.addr + p.units(addressing); });
+  std::uint32_t defined = 0;
+  for (; it != points.end() && it->addr < end; ++it) {
+    const std::uint32_t from = std::max(begin, it->addr);
+    const std::uint32_t to = std::min(end, it->addr + it->units(addressing));
+    if (from < to) defined += to - from;
+  }
+  return defined;
+}
+
 const Space* DeviceMap::space_for(std::uint8_t function) const {
   for (const auto& space : spaces) {
     if (space.serves(function)) return &space;

@@ -91,6 +91,9 @@ struct Space {
   [[nodiscard]] const Point* point_at(std::uint32_t addr) const;
   // The first point that starts at or after `addr`, or null.
   [[nodiscard]] const Point* point_from(std::uint32_t addr) const;
+  // How many addresses of [begin, end) some point's extent contains: point_at() != null for
+  // each, counted per point rather than per address (a request may span 65,535 registers).
+  [[nodiscard]] std::uint32_t defined_in(std::uint32_t begin, std::uint32_t end) const;
 
   // Builds the address table point_at() answers from: every value a frame carries is looked
   // up there, and a search through the (large) points costs more than decoding the value.

@@ -42,9 +42,8 @@ Coverage coverage(const Space& space, std::uint32_t start, std::uint32_t quantit
   Coverage c;
   const bool bytewise = space.addressing == Addressing::kByte && registers_quantity;
   c.units = bytewise ? quantity * 2 : quantity;
-  for (std::uint32_t a = start; a < start + c.units && a <= 0xFFFFU; ++a) {
-    if (space.point_at(a) != nullptr) ++c.defined;
-  }
+  // Addresses end at 0xFFFF: a range running past it covers none beyond.
+  c.defined = space.defined_in(start, std::min<std::uint32_t>(start + c.units, 0x10000U));
   return c;
 }
 

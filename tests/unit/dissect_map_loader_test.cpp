@@ -351,6 +351,36 @@ TEST(MapLoader, PointAtAgreesWithAScanOfThePointsOnEveryBundledMap) {
   EXPECT_GT(hits, 100U);
 }
 
+// defined_in() counts per point what point_at() says per address, over ranges that start
+// and end inside points, between them, before the first and past the last (identification
+// asks it for every request's range, up to 65,535 registers).
+TEST(MapLoader, DefinedInCountsTheAddressesPointAtFindsOnEveryBundledMap) {
+  MapLibrary library;
+  ASSERT_TRUE(library.load_dir(RTUSCOPE_SOURCE_DIR "/dissectors").empty());
+  std::uint64_t compared = 0;
+  for (const auto& map : library.maps()) {
+    for (const Space& space : map->spaces) {
+      const std::uint32_t end =
+          space.points.back().addr + space.points.back().units(space.addressing);
+      std::vector<std::uint32_t> defined_before(end + 70, 0);  // prefix sums of point_at
+      for (std::uint32_t a = 0; a + 1 < defined_before.size(); ++a) {
+        defined_before[a + 1] = defined_before[a] + (space.point_at(a) != nullptr ? 1 : 0);
+      }
+      const std::uint32_t last = static_cast<std::uint32_t>(defined_before.size() - 1);
+      for (std::uint32_t begin = 0; begin <= last; begin += 3) {
+        for (std::uint32_t stop = begin; stop <= last; stop += 7) {
+          ASSERT_EQ(space.defined_in(begin, stop), defined_before[stop] - defined_before[begin])
+              << map->model << " " << space.id << " [" << begin << ", " << stop << ")";
+          ++compared;
+        }
+      }
+      EXPECT_EQ(space.defined_in(5, 5), 0U);
+      EXPECT_EQ(space.defined_in(9, 2), 0U);
+    }
+  }
+  EXPECT_GT(compared, 1000U);
+}
+
 // A space whose points changed after it was indexed searches them instead of a stale table.
 TEST(MapLoader, PointAtFollowsPointsAddedAfterIndexing) {
   auto r = load_map_text(kBase, "bad.toml");

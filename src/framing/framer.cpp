@@ -193,7 +193,7 @@ CrcScan& Framer::extended_scan(std::size_t pos) const {
   CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
   const std::size_t limit = std::min(buffered() - pos, kMaxAdu);
   if (scan.ended_at_silence || scan.scanned >= limit) return scan;
-  if (sweeping_from(pos)) {
+  if (scan.scanned == 0 && sweeping_from(pos)) {
     scan_four_starts(pos);
     return scan;
   }
@@ -233,31 +233,42 @@ bool Framer::sweeping_from(std::size_t pos) const {
   return true;
 }
 
-// The searches from `pos` and the three starts after it, extended side by side. Each ends
+// The fresh searches from `pos` and the three starts after it, run side by side. Each ends
 // where extended_scan() would end it: at the first silence after its start, or its limit.
 void Framer::scan_four_starts(std::size_t pos) const {
   const std::uint8_t* const bytes = bytes_.data() + begin_ + pos;
   const ByteInfo* const info = info_.data() + begin_ + pos;
   const std::size_t avail = buffered() - pos;
+  // One look for the first silence after the first start: it ends every scan that starts
+  // before it, within its limit. A scan starting at or after it (rare) looks on by itself.
+  const std::size_t reach = std::min(avail, 3 + kMaxAdu);
+  std::size_t first_silence = reach;
+  for (std::size_t j = 1; j < reach; ++j) {
+    if (silence_before(info[j].gap_before)) {
+      first_silence = j;
+      break;
+    }
+  }
   std::array<CrcScan*, 4> scans{};
   std::array<const std::uint8_t*, 4> from{};
   std::array<std::size_t, 4> counts{};
   std::array<bool, 4> at_silence{};
   for (std::size_t k = 0; k < 4; ++k) {
-    CrcScan& scan = crc_scans_.at(consumed_ + pos + k, resolution_);
-    scans[k] = &scan;
+    scans[k] = &crc_scans_.at(consumed_ + pos + k, resolution_);
     const std::size_t limit = std::min(avail - k, kMaxAdu);
-    // Bytes up to `scanned` were looked at already (with this resolution): no silence.
-    std::size_t stop = limit;
-    for (std::size_t r = std::max<std::size_t>(scan.scanned, 1); r < limit; ++r) {
-      if (silence_before(info[k + r].gap_before)) {
-        stop = r;
-        at_silence[k] = true;
-        break;
+    std::size_t silence = first_silence;  // relative to pos
+    if (silence <= k) {
+      silence = reach;
+      for (std::size_t j = k + 1; j < reach; ++j) {
+        if (silence_before(info[j].gap_before)) {
+          silence = j;
+          break;
+        }
       }
     }
-    from[k] = bytes + k + scan.scanned;
-    counts[k] = stop - scan.scanned;
+    at_silence[k] = silence - k < limit;
+    from[k] = bytes + k;
+    counts[k] = at_silence[k] ? silence - k : limit;
   }
   extend_side_by_side(from, scans, counts);
   for (std::size_t k = 0; k < 4; ++k) scans[k]->ended_at_silence = at_silence[k];

@@ -453,13 +453,19 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   scan_resume_ = first_pending == 0 ? n : first_pending;
 
   // No confirmed frame ahead. A silence the timestamps show still delimits a frame.
-  for (std::size_t p = 1; p < n; ++p) {
+  // Positions already found silent-free need no second look (on per-byte reads of bytes
+  // that form nothing, this is asked at every byte).
+  std::size_t p = 1;
+  if (silence_search_from_ > consumed_ + 1) p = silence_search_from_ - consumed_;
+  for (; p < n; ++p) {
     if (boundary_at(p)) {
+      silence_search_from_ = consumed_ + p;
       scan_resume_ = 1;
       classify_span(p);
       return Verdict::kEmitted;
     }
   }
+  silence_search_from_ = consumed_ + n;
   if (!forced) return Verdict::kWait;
   scan_resume_ = 1;
   if (at_end) {

@@ -37,6 +37,12 @@ Role TransactionTracker::decide_role(const Record& frame) const {
 
 void TransactionTracker::on_record(Record& record) {
   last_time_ = record.t_end;
+  // Records come in time order: none still to come starts before this one, which is what
+  // advance() is told. A request whose timeout ran out before it is released as timed out
+  // before the record is held behind it, however few idle moments came between (a replay
+  // has none): otherwise noise after the timeout could fill the backlog in a replay where
+  // a live run's idle moment had released the request.
+  advance(record.t_start);
   if (record.kind == RecordKind::kNoise) {
     emit(record);
     return;

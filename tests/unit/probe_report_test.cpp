@@ -200,6 +200,23 @@ TEST(ProbeReport, OneSettingInTenReadingASwappedPairCleanStillCallsItSwapped) {
   EXPECT_FALSE(judge_probe(table, false).inverted);
 }
 
+TEST(ProbeReport, OneBurstEndingCleanAmongAFewIsChanceNotASettingThatReadsClean) {
+  // A short dwell hears eight or nine bursts per setting: one of them ending on a valid stop
+  // bit is chance (8 of 9 is under 90%). Seen live: three such settings among twenty.
+  std::vector<SettingEvidence> table;
+  for (std::uint32_t i = 0; i < 17; ++i) {
+    table.push_back(garbage(LineSettings{1200U * (i + 1), Parity::kEven, 1}, 8, 8));
+  }
+  table.push_back(garbage(LineSettings{14400, Parity::kNone, 2}, 9, 8));
+  table.push_back(garbage(LineSettings{19200, Parity::kNone, 2}, 9, 8));
+  table.push_back(garbage(LineSettings{19200, Parity::kNone, 1}, 8, 6));
+  EXPECT_TRUE(judge_probe(table, false).inverted);
+  // Two or more clean endings in a handful are that setting reading the pair clean.
+  table.push_back(garbage(LineSettings{38400, Parity::kNone, 1}, 8, 6));
+  table.push_back(garbage(LineSettings{38400, Parity::kNone, 2}, 8, 5));
+  EXPECT_FALSE(judge_probe(table, false).inverted);
+}
+
 TEST(ProbeReport, AStraightLineAtWrongSettingsIsNotCalledSwapped) {
   // Some settings end every burst in an error, one does not: not the swapped pattern.
   const std::vector<SettingEvidence> table = {

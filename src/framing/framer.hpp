@@ -144,6 +144,7 @@ class Framer {
   bool boundary_at(std::size_t pos) const;
   bool silence_before(Nanos gap) const;
   CrcScan& extended_scan(std::size_t pos) const;
+  std::size_t first_silence(std::size_t from, std::size_t to) const;
   bool sweeping_from(std::size_t pos) const;
   void scan_four_starts(std::size_t pos) const;
   bool contiguous_at(std::size_t pos) const;

@@ -100,8 +100,9 @@ void setup_report(CLI::App& app, int& exit_code) {
                 "Do not recognise unnamed slaves' models from the traffic; they keep raw "
                 "registers");
   cmd->add_option("--identify-frames", args->identify_frames,
-                  "Recognise unnamed slaves' models from this many first frames (0 = the whole "
-                  "capture); slaves first heard later keep raw registers")
+                  "Recognise unnamed slaves' models from this many first frames, a byte of noise "
+                  "counting as a frame (0 = the whole capture); slaves first heard later keep "
+                  "raw registers")
       ->capture_default_str();
   add_quiet_flag(*cmd, args->quiet);
   cmd->callback([args, &exit_code] {

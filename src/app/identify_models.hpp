@@ -22,8 +22,9 @@ inline constexpr std::uint64_t kIdentifySampleFrames = 200'000;
 inline constexpr std::uint64_t kIdentifyRequestsPerSlave = 2'000;
 
 // Runs `feed` once with a MapIdentifier (reader warnings off) over the first `sample_frames`
-// frames (0 = all, and every request weighed) and assigns what it is sure of. An InputError in this
-// pass is left for the next pass to raise, with everything before the damage identified.
+// frames, a byte of noise counting as a frame (0 = all, and every request weighed), and
+// assigns what it is sure of. An InputError in this pass is left for the next pass to raise,
+// with everything before the damage identified.
 void identify_models(DeviceSetup& devices, const ReplayOptions& options,
                      std::uint64_t sample_frames, const TrafficFeed& feed);
 

@@ -98,6 +98,24 @@ def same_values(a, b):
     return True
 
 
+def noise_first(capture, work, count):
+    """A copy of the text hex `capture` with `count` bytes of noise (one read each, a byte
+    that starts no frame: address 0xF9 and a function code outside Modbus) one second before
+    its traffic, which moves one second later."""
+    path = os.path.join(work, "noise-first.hex")
+    with open(capture, encoding="ascii") as src, open(path, "w", encoding="ascii") as out:
+        lines = src.read().splitlines()
+        header = [line for line in lines if line.startswith("#")]
+        data = [line for line in lines if line and not line.startswith("#")]
+        out.write("\n".join(header) + "\n")
+        for i in range(count):
+            out.write(f"{0.5 + i * 0.0012:.9f} {0xF9 if i % 2 == 0 else 0xFE:02x}\n")
+        for line in data:
+            t, rest = line.split(" ", 1)
+            out.write(f"{float(t) + 1.0:.9f} {rest}\n")
+    return path
+
+
 def report(rtuscope, capture, args, work, tag):
     csv_path = os.path.join(work, f"{tag}.csv")
     js = json.loads(run([rtuscope, "report", capture, "--format", "json", "--csv", csv_path]
@@ -176,6 +194,21 @@ def check(rtuscope, capture, args, models, work):
     js_all, rows_all = report(rtuscope, capture, ["--identify-frames", "0"], work, "all")
     if js_all != js_id or rows_all != rows_id:
         fail("--identify-frames 0 (the whole capture) differs from the default sample")
+    # Noise counts towards the sample a frame per byte: framing it is the dearest work there
+    # is, and a sick bus must not be framed twice before its first frames. Behind 300 noise
+    # bytes, a sample of 200 ends in the noise; the whole capture still identifies.
+    noisy = noise_first(capture, work, 300)
+    js_noisy, _ = report(rtuscope, noisy, ["--identify-frames", "200"], work, "noisy")
+    for addr in models:
+        if js_noisy["slaves"][addr]["device"] is not None:
+            fail(f"slave {addr} identified from a sample of 200 that 300 noise bytes fill")
+    if js_noisy["totals"]["noise_bytes"] < 300:
+        fail(f"the noise before the traffic was not read as noise: {js_noisy['totals']}")
+    js_noisy_all, _ = report(rtuscope, noisy, ["--identify-frames", "0"], work, "noisy-all")
+    for addr, model in models.items():
+        if js_noisy_all["slaves"][addr]["device"] != model:
+            fail(f"slave {addr} not identified as {model} behind the noise from the whole "
+                 "capture")
     text = run([rtuscope, "report", capture])
     for addr, model in models.items():
         if not re.search(rf"^\s+{addr} {re.escape(model)}\*\s", text, re.M):

@@ -2,8 +2,9 @@
 // What the framer's CRC search for a frame of no known length has found so far, per start
 // position, so that each new read extends the search instead of repeating it.
 //
-// The search from a start runs the CRC byte by byte up to kMaxAdu bytes or the first
-// silence the timestamps show, and notes each length at which the CRC comes out 0. None of
+// The search from a start covers up to kMaxAdu bytes or the bytes up to the first silence
+// the timestamps show, and notes each length at which the CRC comes out 0: by running the
+// CRC on where a few bytes extend it, else by looking the zeros up (CrcZeroIndex). None of
 // that depends on anything but the bytes, their silences and the timing resolution, which
 // never change for a byte once it is buffered; so a scan is kept under its absolute start
 // position and the resolution it was made with, and whatever asks about the same start
@@ -30,8 +31,9 @@ struct CrcScan {
 
   std::uint64_t start = kNoStart;  // absolute position of the first byte
   Nanos resolution = 0;            // the timing resolution the silences were judged with
-  std::uint16_t scanned = 0;       // bytes the CRC covers so far
-  std::uint16_t crc = kCrcInit;    // CRC of those bytes
+  std::uint16_t scanned = 0;       // bytes the search covers so far
+  std::uint16_t crc = kCrcInit;    // CRC of those bytes, while crc_known
+  bool crc_known = true;           // false once CrcZeroIndex extended the search
   bool ended_at_silence = false;   // a silence follows byte `scanned`: the scan is complete
   bool found_zero = false;         // some bit of zero_lengths is set
   std::array<std::uint64_t, kWords> zero_lengths{};  // bit L: CRC is 0 after L bytes
@@ -55,29 +57,7 @@ struct CrcScan {
     }
     return false;
   }
-
-  // Runs the CRC over `bytes` from where the scan stands; `bytes` starts at byte `scanned`.
-  void extend(const std::uint8_t* bytes, std::size_t count) {
-    std::uint16_t c = crc;
-    std::size_t length = scanned;
-    for (std::size_t i = 0; i < count; ++i) {
-      c = crc16_update(c, bytes[i]);
-      ++length;
-      if (c == 0 && length >= kMinAdu) note_zero(length);
-    }
-    crc = c;
-    scanned = static_cast<std::uint16_t>(length);
-  }
 };
-
-// Extends four scans by counts[k] bytes each, side by side; scan k's next byte is from[k][0].
-// Each CRC step waits on the table look-up of the step before it, so one scan runs at the
-// speed of that chain of look-ups; four independent chains interleaved take about the time
-// of one. This is what a sweep over every start of a stretch of bytes that forms no frame
-// costs (traffic of unknown function codes with no silence the timestamps show): up to
-// kMaxAdu steps per start.
-void extend_side_by_side(std::array<const std::uint8_t*, 4> from, std::array<CrcScan*, 4> scans,
-                         std::array<std::size_t, 4> counts);
 
 // One scan per start the framer may hold undecided (kMaxPending = 4 * kMaxAdu).
 // Direct-mapped on the start position; a collision only costs a rescan.

@@ -187,18 +187,36 @@ std::size_t Framer::predicted_length(std::size_t pos) const {
 }
 
 // The CRC search from `pos`, extended over the bytes that came since it was last looked
-// at. On traffic of unknown function codes with no silence the timestamps show, its loop
-// is where the framer spends its time (every byte may start a frame), so it works on locals.
+// at: up to the first silence after its start (a frame ends at one), or its limit. On
+// traffic that forms no frame (noise, unknown function codes) every byte is a start, and
+// this is where the framer spends its time.
 CrcScan& Framer::extended_scan(std::size_t pos) const {
   CrcScan& scan = crc_scans_.at(consumed_ + pos, resolution_);
   const std::size_t limit = std::min(buffered() - pos, kMaxAdu);
   if (scan.ended_at_silence || scan.scanned >= limit) return scan;
-  if (scan.scanned == 0 && sweeping_from(pos)) {
-    scan_four_starts(pos);
+  const std::size_t scanned = scan.scanned;
+  if (limit == scanned + 1 && scan.crc_known) {
+    // One byte more: what per-byte reads bring to every open search at every byte.
+    if (scanned > 0 && silence_before(info_at(pos + scanned).gap_before)) {
+      scan.ended_at_silence = true;  // a frame ends at a silence
+      return scan;
+    }
+    scan.crc = crc16_update(scan.crc, byte_at(pos + scanned));
+    scan.scanned = static_cast<std::uint16_t>(limit);
+    if (scan.crc == 0 && limit >= kMinAdu) scan.note_zero(limit);
     return scan;
   }
-  // Silence and CRC in one pass (not first_silence() then CrcScan::extend(): two passes over
-  // this, the framer's hottest loop, cost 7% of a report of random frames).
+  if (limit - scanned >= kCrcStepsUpTo || !scan.crc_known) {
+    extend_scan_otherwise(pos, scan, limit);
+  } else {
+    run_crc_on(pos, scan, limit);
+  }
+  return scan;
+}
+
+// The CRC run on over a few bytes more (per-byte reads bring one at a time), with the look
+// for a silence in the same pass.
+void Framer::run_crc_on(std::size_t pos, CrcScan& scan, std::size_t limit) const {
   const std::uint8_t* const bytes = bytes_.data() + begin_ + pos;
   const ByteInfo* const info = info_.data() + begin_ + pos;
   std::size_t scanned = scan.scanned;
@@ -214,60 +232,51 @@ CrcScan& Framer::extended_scan(std::size_t pos) const {
   }
   scan.crc = crc;
   scan.scanned = static_cast<std::uint16_t>(scanned);
-  return scan;
 }
 
-// The first window position in [from, to) with a silence before it, or `to`.
+// extended_scan() where the CRC does not simply run on. Over many bytes at once, the zeros
+// are looked up by value (CrcZeroIndex), with no chain of CRC steps, and the CRC is not
+// known from then on; a search so extended that then grows by a few bytes at a time gets
+// its CRC back once, and runs on from there. Kept out of line: the one-byte steps of
+// per-byte reads are the framer's hottest path, and this made them dearer inlined.
+void Framer::extend_scan_otherwise(std::size_t pos, CrcScan& scan, std::size_t limit) const {
+  if (limit - scan.scanned < kCrcStepsUpTo) {
+    scan.crc = crc16({bytes_.data() + begin_ + pos, scan.scanned});
+    scan.crc_known = true;
+    run_crc_on(pos, scan, limit);
+    return;
+  }
+  // The start's own first byte counts whatever silence comes before it.
+  const std::size_t from = pos + std::max<std::size_t>(scan.scanned, 1);
+  const std::size_t length = first_silence(from, pos + limit) - pos;
+  crc_zeros_.note_zeros(scan, length, bytes_.data() + begin_, consumed_);
+  scan.crc_known = false;
+  scan.ended_at_silence = length < limit;
+}
+
+// The first window position in [from, to) with a silence before it, or `to`. The answer
+// is kept: the searches from the starts of a stretch without silence ask about nearly the
+// same positions one after the other, and looking at each again cost every search its
+// whole length once more.
 std::size_t Framer::first_silence(std::size_t from, std::size_t to) const {
+  const std::uint64_t a = consumed_ + from;
+  const std::uint64_t b = consumed_ + to;
+  SilenceLook& kept = last_silence_look_;
+  std::uint64_t look_from = a;
+  if (kept.resolution == resolution_ && kept.from <= a && a <= kept.found) {
+    // No silence in [kept.from, kept.found): none in [a, kept.found) either.
+    if (kept.found < kept.to || b <= kept.found) return std::min(kept.found, b) - consumed_;
+    look_from = kept.to;  // none up to kept.to: look on from there
+  } else {
+    kept.from = a;
+  }
   const ByteInfo* const info = info_.data() + begin_;
-  for (std::size_t p = from; p < to; ++p) {
-    if (silence_before(info[p].gap_before)) return p;
-  }
-  return to;
-}
-
-// Whether the search from `pos` is the first of four fresh ones in a sweep over consecutive
-// starts: decide_head() looks for the next frame at every start of a stretch that forms
-// none. The start before it was searched, and each of the four has enough bytes to run.
-// (Searches that each read extends are left one by one: run four at a time, they cost more
-// on per-byte reads than they save on batched ones.)
-bool Framer::sweeping_from(std::size_t pos) const {
-  constexpr std::size_t kWorthIt = 16;  // bytes each of the four scans runs at least
-  if (pos == 0 || buffered() - pos < 3 + kWorthIt) return false;
-  const std::uint64_t start = consumed_ + pos;
-  const CrcScan* before = crc_scans_.find(start - 1, resolution_);
-  if (before == nullptr || before->scanned == 0) return false;
-  for (std::size_t k = 0; k < 4; ++k) {
-    const CrcScan* scan = crc_scans_.find(start + k, resolution_);
-    if (scan != nullptr && (scan->scanned > 0 || scan->ended_at_silence)) return false;
-  }
-  return true;
-}
-
-// The fresh searches from `pos` and the three starts after it, run side by side. Each ends
-// where extended_scan() would end it: at the first silence after its start, or its limit.
-void Framer::scan_four_starts(std::size_t pos) const {
-  const std::uint8_t* const bytes = bytes_.data() + begin_ + pos;
-  const std::size_t avail = buffered() - pos;
-  // One look for the first silence after the first start: it ends every scan that starts
-  // before it, within its limit. A scan starting at or after it (rare) looks on by itself.
-  const std::size_t reach = std::min(avail, 3 + kMaxAdu);
-  const std::size_t silence_after_first = first_silence(pos + 1, pos + reach) - pos;
-  std::array<CrcScan*, 4> scans{};
-  std::array<const std::uint8_t*, 4> from{};
-  std::array<std::size_t, 4> counts{};
-  std::array<bool, 4> at_silence{};
-  for (std::size_t k = 0; k < 4; ++k) {
-    scans[k] = &crc_scans_.at(consumed_ + pos + k, resolution_);
-    const std::size_t limit = std::min(avail - k, kMaxAdu);
-    std::size_t silence = silence_after_first;  // relative to pos
-    if (silence <= k) silence = first_silence(pos + k + 1, pos + reach) - pos;
-    at_silence[k] = silence - k < limit;
-    from[k] = bytes + k;
-    counts[k] = at_silence[k] ? silence - k : limit;
-  }
-  extend_side_by_side(from, scans, counts);
-  for (std::size_t k = 0; k < 4; ++k) scans[k]->ended_at_silence = at_silence[k];
+  std::uint64_t p = look_from;
+  while (p < b && !silence_before(info[p - consumed_].gap_before)) ++p;
+  kept.to = b;
+  kept.found = p;
+  kept.resolution = resolution_;
+  return p - consumed_;
 }
 
 std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,

@@ -23,6 +23,7 @@
 
 #include "core/chunk.hpp"
 #include "framing/crc_scan_cache.hpp"
+#include "framing/crc_zero_index.hpp"
 #include "framing/quiet_starts.hpp"
 #include "framing/record.hpp"
 #include "serial/line_settings.hpp"
@@ -101,6 +102,10 @@ class Framer {
  private:
   static constexpr std::size_t kWindow = 2048;             // bytes held while deciding
   static constexpr std::size_t kMaxPending = 4 * kMaxAdu;  // forces a decision beyond this
+  static_assert(kWindow < CrcZeroIndex::kReach);
+  // A CRC search extended by fewer bytes than this runs the CRC on over them; by more, it
+  // looks its zeros up (CrcZeroIndex).
+  static constexpr std::size_t kCrcStepsUpTo = 4;
 
   struct ByteInfo {
     Nanos t_end = 0;
@@ -144,9 +149,10 @@ class Framer {
   bool boundary_at(std::size_t pos) const;
   bool silence_before(Nanos gap) const;
   CrcScan& extended_scan(std::size_t pos) const;
+  void run_crc_on(std::size_t pos, CrcScan& scan, std::size_t limit) const;
+  [[gnu::noinline]] void extend_scan_otherwise(std::size_t pos, CrcScan& scan,
+                                               std::size_t limit) const;
   std::size_t first_silence(std::size_t from, std::size_t to) const;
-  bool sweeping_from(std::size_t pos) const;
-  void scan_four_starts(std::size_t pos) const;
   bool contiguous_at(std::size_t pos) const;
   bool is_turnaround_glitch(const Record& noise) const;
   bool plausible_start(std::size_t pos) const;
@@ -182,6 +188,16 @@ class Framer {
   // window's second byte, were looked at with the current resolution and do not.
   std::uint64_t silence_search_from_ = 0;
   mutable CrcScanCache crc_scans_;
+  mutable CrcZeroIndex crc_zeros_;  // answers the scans
+  // first_silence()'s last answer, in absolute positions: no silence in [from, found), and
+  // a silence at found unless found == to. Judged with `resolution`.
+  struct SilenceLook {
+    std::uint64_t from = 0;
+    std::uint64_t found = 0;
+    std::uint64_t to = 0;
+    Nanos resolution = -1;
+  };
+  mutable SilenceLook last_silence_look_;
   // Window positions (absolute modulo kWindow) known not to start a confirmable frame
   // whatever bytes come next: searches skip them. Cleared when the resolution changes.
   std::bitset<kWindow> settled_;

@@ -12,11 +12,6 @@ constexpr std::size_t kBlock = CrcZeroIndex::kBlock;
 // Searches extended by fewer positions than this compare each one.
 constexpr std::uint64_t kCompareUpTo = 4;
 
-// The CRC register's step over a zero byte: A(c) = (c >> 8) ^ T[c & 0xFF].
-std::uint16_t zero_step(std::uint16_t c) {
-  return static_cast<std::uint16_t>((c >> 8U) ^ crc_detail::kTable[c & 0xFFU]);
-}
-
 struct Tables {
   // step[j][b] = A^-j T[b]: byte b's term in the value of the position j after the base.
   std::array<std::array<std::uint16_t, 256>, kBlock + 1> step{};
@@ -51,9 +46,9 @@ struct Tables {
     for (unsigned x = 0; x < 256; ++x) {
       auto low = static_cast<std::uint16_t>(x);
       auto high = static_cast<std::uint16_t>(x << 8U);
-      for (std::size_t k = 0; k < kBlock; ++k) {
-        low = zero_step(low);
-        high = zero_step(high);
+      for (std::size_t k = 0; k < kBlock; ++k) {  // A: the register's step over a zero byte
+        low = crc16_update(low, 0);
+        high = crc16_update(high, 0);
       }
       to_next_low[x] = low;
       to_next_high[x] = high;

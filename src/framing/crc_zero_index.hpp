@@ -63,8 +63,8 @@ class CrcZeroIndex {
   std::uint64_t computed_ = 0;                 // the last position with a value
   std::array<std::uint16_t, kReach> value_{};  // by position % kReach, to its block's base
   // The positions of the values, newest first, by the value's low bits (kBuckets of them,
-  // about two per position held: small enough to stay in the cache, where one per value
-  // missed it): the latest by bucket, and from each position (by position % kReach) the
+  // about two per position held, and small enough to stay in the cache, where one bucket
+  // per value missed it): the latest by bucket, and from each position (by position % kReach) the
   // one before it in the same bucket. A search looks up its target instead of comparing
   // every position it covers. Entries older than the window end a walk (a chain restarted,
   // or the ring moved on); none is ever cleared.

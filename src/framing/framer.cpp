@@ -132,6 +132,7 @@ void Framer::finish() {
 }
 
 void Framer::decide(bool at_end) {
+  run_quiet_watch_on();
   while (buffered() > 0) {
     if (decide_head(at_end) == Verdict::kWait) break;
   }
@@ -378,11 +379,44 @@ void Framer::note_crc_scan(std::size_t pos, SearchNotes& notes) const {
   notes.until = std::min<std::uint64_t>(notes.until, start + kMaxAdu);
 }
 
+// The watches of quiet_starts_ brought up to the window end: run on over a byte or a few,
+// else ended (the look-ups of CrcZeroIndex answer a longer extension more cheaply).
+void Framer::run_quiet_watch_on() {
+  const std::uint64_t end = consumed_ + buffered();
+  const std::uint64_t through = quiet_starts_.watched_through();
+  if (through == end) return;
+  if (!quiet_starts_.any_watched() || through < consumed_ || end - through >= kCrcStepsUpTo) {
+    quiet_starts_.unwatch_all(end);
+    return;
+  }
+  const std::size_t from = through - consumed_;
+  for (std::size_t pos = from; pos < buffered(); ++pos) {
+    if (silence_before(info_at(pos).gap_before)) {
+      quiet_starts_.unwatch_all(end);  // a frame may end at it
+      return;
+    }
+  }
+  quiet_starts_.run_on({bytes_.data() + begin_ + from, buffered() - from}, end);
+}
+
 // Whether the CRC search from `pos`, extended over the bytes that came since, still found
 // no zero and no silence (as note_crc_scan() required).
 bool Framer::crc_scan_still_quiet(std::size_t pos) const {
   const CrcScan& scan = extended_scan(pos);
   return !scan.ended_at_silence && !scan.found_zero;
+}
+
+// The start at `pos`, remembered as `quiet` and found still quiet, is watched from here on
+// where it waits on no CRC search, or its search runs on byte by byte up to the window end.
+void Framer::watch(std::size_t pos, const QuietStart& quiet) {
+  if (!quiet.watch_crc_scan) {
+    quiet_starts_.watch(quiet, 0);
+    return;
+  }
+  const CrcScan* scan = crc_scans_.find(quiet.start, resolution_);
+  if (scan != nullptr && scan->crc_known && scan->scanned == buffered() - pos) {
+    quiet_starts_.watch(quiet, scan->crc);
+  }
 }
 
 std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending) {
@@ -392,11 +426,13 @@ std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bo
   if (!at_end) {
     const QuietStart* quiet = quiet_starts_.find(start, epoch_, consumed_ + buffered());
     if (quiet != nullptr && (!quiet->watch_crc_scan || crc_scan_still_quiet(pos))) {
+      if (watchable(pos)) watch(pos, *quiet);
       *pending = quiet->pending;
       answer_may_change_ = quiet->may_change;
       return 0;
     }
   }
+  quiet_starts_.unwatch(start);
   answer_may_change_ = false;
   SearchNotes notes;
   const std::size_t length = confirmed_length(pos, at_end, kGenericDepth, pending, &notes);
@@ -446,7 +482,18 @@ Framer::Verdict Framer::decide_head(bool at_end) {
 
   // Nothing at the head can be a valid frame: find where the next one starts.
   std::size_t first_pending = 0;
+  // Starts this loop watches come before the one it looks at: with none watched at first,
+  // there is none to ask about.
+  const bool any_watched = !at_end && quiet_starts_.any_watched();
   for (std::size_t p = std::max<std::size_t>(1, scan_resume_); p < n; ++p) {
+    if (any_watched) {
+      // A watched start answers as it did: nothing yet (see quiet_starts.hpp).
+      const auto answer = quiet_starts_.watched_answer(consumed_ + p);
+      if (answer != QuietStarts::kNotWatched) {
+        if (answer == QuietStarts::kQuietPending && first_pending == 0) first_pending = p;
+        continue;
+      }
+    }
     bool pending = false;
     if (settled_or_confirmed_length(p, at_end, &pending) > 0) {
       scan_resume_ = 1;
@@ -662,6 +709,7 @@ bool Framer::is_turnaround_glitch(const Record& noise) const {
 }
 
 void Framer::consume(std::size_t length) {
+  quiet_starts_.unwatch_range(consumed_, length);
   begin_ += length;
   consumed_ += length;
   if (begin_ == end_) begin_ = end_ = 0;

@@ -141,7 +141,19 @@ class Framer {
                                SearchNotes* notes = nullptr) const;
   void note_crc_scan(std::size_t pos, SearchNotes& notes) const;
   bool crc_scan_still_quiet(std::size_t pos) const;
-  void new_epoch() { ++epoch_; }
+  [[gnu::noinline]] void watch(std::size_t pos, const QuietStart& quiet);
+  // Whether a quiet start at `pos` is worth watching (see quiet_starts.hpp): while reads
+  // bring a byte or a few (a longer one ends every watch), and not the head, whose answer
+  // decide_head() asks for apart.
+  [[nodiscard]] bool watchable(std::size_t pos) const {
+    return pos > 0 && info_at(buffered() - 1).chunk_size < kCrcStepsUpTo &&
+           quiet_starts_.watched_through() == consumed_ + buffered();
+  }
+  void run_quiet_watch_on();
+  void new_epoch() {
+    ++epoch_;
+    quiet_starts_.unwatch_all(quiet_starts_.watched_through());  // the answers were of the last
+  }
   // confirmed_length() at full depth, skipping positions already known to be no start.
   std::size_t settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending);
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;

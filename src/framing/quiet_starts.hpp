@@ -13,9 +13,21 @@
 //   - a predicted length to arrive (a response's byte count, a fixed size), or
 //   - its CRC search to come upon a zero or a silence
 // repeats its answer until the window reaches `until` or the CRC search finds either.
+//
+// Asking each waiting start again on every byte (a look-up, and for one that waits on its
+// CRC search a step of that search) took nearly all of the framer's time where reads
+// hold a byte or a few and nothing forms a frame (noise, or traffic read at the wrong baud
+// rate): some 250 starts wait. So a start found still quiet is also *watched*: its
+// answer is kept in a byte the framer reads in a tight loop, and what can end it is checked
+// here for all watched starts at once as the window grows: the window reaching `until`, and
+// for a start that waits on its CRC search a zero of its CRC register (kept here and run on
+// over each new byte) or a silence. Watching only ever answers "still quiet"; anything
+// else ends it, and the start's own search answers again.
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 namespace rtu {
 
@@ -51,11 +63,75 @@ class QuietStarts {
     if (q.start != start || q.epoch != epoch || window_end >= q.until) return nullptr;
     return &q;
   }
-  void remember(const QuietStart& quiet) { slots_[quiet.start % kSlots] = quiet; }
+  void remember(const QuietStart& quiet) {
+    unwatch(quiet.start);  // the watch was on the entry this one replaces
+    slots_[quiet.start % kSlots] = quiet;
+  }
+
+  // Watches the entry find() just gave, still quiet at window end watched_through(); `crc`:
+  // the register of its CRC search up to there, where it watches that search.
+  void watch(const QuietStart& quiet, std::uint16_t crc);
+  // The answer of a watched start: kNotWatched, or whether it waits for bytes. Valid while
+  // the window end is watched_through().
+  enum Answer : std::uint8_t { kNotWatched = 0, kQuiet = 1, kQuietPending = 2 };
+  [[nodiscard]] Answer watched_answer(std::uint64_t start) const {
+    return static_cast<Answer>(answer_[start % kSlots]);
+  }
+  [[nodiscard]] std::uint64_t watched_through() const { return through_; }
+  [[nodiscard]] bool any_watched() const { return watchers_ > 0; }
+
+  // The window end moved from watched_through() to `through` over `bytes`, with no silence
+  // before any of them: a watch ends where the window reaches its `until`, or where the
+  // CRC search it waits on comes out zero.
+  void run_on(std::span<const std::uint8_t> bytes, std::uint64_t through);
+  // The window end moved to `through` in a way watching does not follow (a silence, several
+  // bytes at once), or what the searches assumed changed (the framer's epoch): every
+  // start answers for itself again.
+  void unwatch_all(std::uint64_t through);
+  void unwatch(std::uint64_t start) {
+    if (watchers_ > 0) unwatch_slot(start % kSlots);
+  }
+  // Starts [first, first + count) left the window.
+  void unwatch_range(std::uint64_t first, std::size_t count) {
+    for (std::size_t i = 0; i < count && watchers_ > 0; ++i) unwatch_slot((first + i) % kSlots);
+  }
 
  private:
   static constexpr std::size_t kSlots = 2048;  // the framer's window
+  static constexpr std::size_t kWords = kSlots / 64;
+  void run_on_one(std::uint8_t byte, std::uint64_t through);
+  // Calls ends(slot) for each watched slot, and ends the watches for which it says true.
+  template <typename Ends>
+  void for_each_watched(Ends&& ends) {
+    std::size_t left = watchers_;
+    for (std::size_t word = 0; left > 0; ++word) {
+      std::uint64_t bits = watched_[word];
+      while (bits != 0) {
+        const std::size_t slot = word * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+        bits &= bits - 1;
+        --left;
+        if (ends(slot)) unwatch_slot(slot);
+      }
+    }
+  }
+  void unwatch_slot(std::size_t slot) {
+    if (answer_[slot] == kNotWatched) return;
+    answer_[slot] = kNotWatched;
+    watched_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
+    --watchers_;
+  }
+
   std::array<QuietStart, kSlots> slots_{};
+  // Watched starts, by slot: the answer, a bit to find them, and what run_on() reads, side by
+  // side: when the watch ends, and the CRC register of the search it waits on (where
+  // `crc_ends_` is set: else a zero of the register means nothing).
+  std::array<std::uint8_t, kSlots> answer_{};
+  std::array<std::uint64_t, kWords> watched_{};
+  std::array<std::uint64_t, kSlots> until_{};
+  std::array<std::uint16_t, kSlots> crc_{};
+  std::array<bool, kSlots> crc_ends_{};
+  std::size_t watchers_ = 0;
+  std::uint64_t through_ = 0;
 };
 
 }  // namespace rtu

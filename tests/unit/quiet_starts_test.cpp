@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bus_builder.hpp"
@@ -90,7 +91,11 @@ TEST(QuietStarts, RememberingChangesNoRecord) {
         {"per byte", bus.per_byte(), FramerConfig{bus.line(), kNanosPerMicro}},
         {"1 ms reads", bus.batched(1 * kMs), FramerConfig{bus.line(), 1 * kMs}},
         {"16 ms reads", bus.batched(16 * kMs), FramerConfig{bus.line(), 16 * kMs}},
-        {"16 ms reads, resolution unknown", bus.batched(16 * kMs), FramerConfig{bus.line(), 0}}};
+        {"16 ms reads, resolution unknown", bus.batched(16 * kMs), FramerConfig{bus.line(), 0}},
+        // Reads of a few bytes: watched starts run on over two or three bytes at once, and
+        // a read of five ends every watch.
+        {"reads of up to 3 bytes", bus.usb(2 * kMs, 3), FramerConfig{bus.line(), 2 * kMs}},
+        {"reads of up to 5 bytes", bus.usb(2 * kMs, 5), FramerConfig{bus.line(), 2 * kMs}}};
     std::size_t frames = 0;
     for (const auto& reading : readings) {
       const auto with = frame_all(reading.chunks, reading.config, true);
@@ -104,6 +109,75 @@ TEST(QuietStarts, RememberingChangesNoRecord) {
     // intact frames are found, through 16 ms reads about 15%.)
     EXPECT_GT(frames, 400U) << "seed " << seed;
   }
+}
+
+// Long stretches of noise, where some 250 starts wait on their CRC searches at every byte
+// and nearly all are watched, with frames and silences between them.
+TEST(QuietStarts, WatchingNoiseChangesNoRecord) {
+  std::mt19937 random(7);
+  const auto byte = [&] { return static_cast<std::uint8_t>(random() & 0xFFU); };
+  BusBuilder bus;
+  for (int stretch = 0; stretch < 12; ++stretch) {
+    std::vector<std::uint8_t> noise(300 + random() % 1500);
+    for (auto& b : noise) b = byte();
+    bus.add(noise, stretch % 3 == 0 ? 20 * kMs : 0);
+    bus.add(test::with_crc({1, 3, 0, 0, 0, 2}), stretch % 2 == 0 ? 5 * kMs : 0);
+  }
+  const std::vector<std::pair<std::string, std::vector<Chunk>>> readings = {
+      {"per byte", bus.per_byte()}, {"reads of up to 2 bytes", bus.usb(1 * kMs, 2)}};
+  for (const auto& [name, chunks] : readings) {
+    const FramerConfig config{bus.line(), kNanosPerMicro};
+    const auto with = frame_all(chunks, config, true);
+    const auto without = frame_all(chunks, config, false);
+    expect_same_records(with, without, name);
+    std::size_t noise = 0;
+    for (const auto& r : with) noise += r.kind == RecordKind::kNoise ? r.size : 0;
+    EXPECT_GT(noise, 3000U) << name;  // it was noise, kept as noise
+  }
+}
+
+// The watch itself: what ends it, and only that.
+TEST(QuietStarts, AWatchEndsAtAZeroOfItsCrcAtItsUntilOrWhenAsked) {
+  QuietStarts quiet;
+  const std::vector<std::uint8_t> frame = test::with_crc({7, 0x41, 1, 2, 3});
+  // Start 100 waits on its CRC search, which has run over the frame's first three bytes.
+  const QuietStart searching{100, 1, 100 + kMaxAdu, true, true, false};
+  quiet.remember(searching);
+  quiet.unwatch_all(103);
+  quiet.watch(searching, crc16({frame.data(), 3}));
+  EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kQuietPending);
+  // Start 101 waits for a predicted length only, up to window end 106.
+  const QuietStart predicted{101, 1, 106, false, false, true};
+  quiet.remember(predicted);
+  quiet.watch(predicted, 0);
+  EXPECT_EQ(quiet.watched_answer(101), QuietStarts::kQuiet);
+
+  quiet.run_on({frame.data() + 3, 1}, 104);  // no zero yet, and 104 is short of 106
+  EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kQuietPending);
+  EXPECT_EQ(quiet.watched_answer(101), QuietStarts::kQuiet);
+  quiet.run_on({frame.data() + 4, 2}, 106);  // one of the CRC's bytes; the window reaches 106
+  EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kQuietPending);
+  EXPECT_EQ(quiet.watched_answer(101), QuietStarts::kNotWatched);
+  quiet.run_on({frame.data() + 6, 1}, 107);  // the CRC's last byte: the register is zero
+  EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kNotWatched);
+  EXPECT_FALSE(quiet.any_watched());
+
+  // A start that left the window, and remembering anew, end a watch too.
+  const QuietStart a{200, 2, 300, false, true, false};
+  const QuietStart b{201, 2, 300, false, true, false};
+  quiet.remember(a);
+  quiet.remember(b);
+  quiet.watch(a, 0);
+  quiet.watch(b, 0);
+  quiet.unwatch_range(200, 1);
+  EXPECT_EQ(quiet.watched_answer(200), QuietStarts::kNotWatched);
+  EXPECT_EQ(quiet.watched_answer(201), QuietStarts::kQuietPending);
+  quiet.remember(b);
+  EXPECT_EQ(quiet.watched_answer(201), QuietStarts::kNotWatched);
+  quiet.watch(b, 0);
+  quiet.unwatch_all(108);
+  EXPECT_FALSE(quiet.any_watched());
+  EXPECT_EQ(quiet.watched_through(), 108U);
 }
 
 }  // namespace

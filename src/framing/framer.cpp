@@ -78,6 +78,7 @@ void Framer::push(const Chunk& chunk) {
   advance(chunk.t_end);
   ++chunks_;
   if (n > 1) ++batched_chunks_;
+  last_read_small_ = n < kCrcStepsUpTo;
   const auto chunk_size = static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
   // Everything the loop reads, in locals: its stores into the byte window may alias anything
   // (they are uint8_t), so the compiler would otherwise reload each of these at every byte.
@@ -379,13 +380,11 @@ void Framer::note_crc_scan(std::size_t pos, SearchNotes& notes) const {
   notes.until = std::min<std::uint64_t>(notes.until, start + kMaxAdu);
 }
 
-// The watches of quiet_starts_ brought up to the window end: run on over a byte or a few,
-// else ended (the look-ups of CrcZeroIndex answer a longer extension more cheaply).
-void Framer::run_quiet_watch_on() {
-  const std::uint64_t end = consumed_ + buffered();
+// run_quiet_watch_on() where starts are watched: they run on over a byte or a few, else
+// the watches end (the look-ups of CrcZeroIndex answer a longer extension more cheaply).
+void Framer::run_quiet_watch_on_to(std::uint64_t end) {
   const std::uint64_t through = quiet_starts_.watched_through();
-  if (through == end) return;
-  if (!quiet_starts_.any_watched() || through < consumed_ || end - through >= kCrcStepsUpTo) {
+  if (through < consumed_ || end - through >= kCrcStepsUpTo) {
     quiet_starts_.unwatch_all(end);
     return;
   }
@@ -484,7 +483,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   std::size_t first_pending = 0;
   // Starts this loop watches come before the one it looks at: with none watched at first,
   // there is none to ask about.
-  const bool any_watched = !at_end && quiet_starts_.any_watched();
+  const bool any_watched = !at_end && quiet_starts_.any_watched(epoch_);
   for (std::size_t p = std::max<std::size_t>(1, scan_resume_); p < n; ++p) {
     if (any_watched) {
       // A watched start answers as it did: nothing yet (see quiet_starts.hpp).

@@ -146,14 +146,21 @@ class Framer {
   // bring a byte or a few (a longer one ends every watch), and not the head, whose answer
   // decide_head() asks for apart.
   [[nodiscard]] bool watchable(std::size_t pos) const {
-    return pos > 0 && info_at(buffered() - 1).chunk_size < kCrcStepsUpTo &&
-           quiet_starts_.watched_through() == consumed_ + buffered();
+    return pos > 0 && last_read_small_ && quiet_starts_.watched_through() == consumed_ + buffered();
   }
-  void run_quiet_watch_on();
-  void new_epoch() {
-    ++epoch_;
-    quiet_starts_.unwatch_all(quiet_starts_.watched_through());  // the answers were of the last
+  // The watches of quiet_starts_ brought up to the window end. Asked at every decision:
+  // where nothing is watched (nearly always, on traffic that forms frames), that inline.
+  void run_quiet_watch_on() {
+    const std::uint64_t end = consumed_ + buffered();
+    if (quiet_starts_.watched_through() == end) return;
+    if (quiet_starts_.any_watched()) {
+      run_quiet_watch_on_to(end);
+    } else {
+      quiet_starts_.unwatch_all(end);
+    }
   }
+  void run_quiet_watch_on_to(std::uint64_t end);
+  void new_epoch() { ++epoch_; }  // ends the watches too (see QuietStarts::any_watched)
   // confirmed_length() at full depth, skipping positions already known to be no start.
   std::size_t settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending);
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
@@ -190,6 +197,7 @@ class Framer {
   Nanos resolution_;
   std::uint64_t chunks_ = 0;
   std::uint64_t batched_chunks_ = 0;  // reads that returned more than one byte
+  bool last_read_small_ = false;      // fewer than kCrcStepsUpTo bytes: starts are watched
 
   std::array<std::uint8_t, kWindow> bytes_{};
   std::array<ByteInfo, kWindow> info_{};

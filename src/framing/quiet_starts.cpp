@@ -5,6 +5,10 @@
 namespace rtu {
 
 void QuietStarts::watch(const QuietStart& quiet, std::uint16_t crc) {
+  if (quiet.epoch != epoch_) {
+    unwatch_every();
+    epoch_ = quiet.epoch;
+  }
   const std::size_t slot = quiet.start % kSlots;
   until_[slot] = quiet.until;
   crc_[slot] = crc;
@@ -45,8 +49,11 @@ void QuietStarts::run_on_one(std::uint8_t byte, std::uint64_t through) {
   });
 }
 
-void QuietStarts::unwatch_all(std::uint64_t through) {
-  through_ = through;
+void QuietStarts::unwatch_slots(std::uint64_t first, std::size_t count) {
+  for (std::size_t i = 0; i < count && watchers_ > 0; ++i) unwatch_slot((first + i) % kSlots);
+}
+
+void QuietStarts::unwatch_every() {
   for_each_watched([](std::size_t /*slot*/) { return true; });
 }
 

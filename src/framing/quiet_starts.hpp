@@ -69,37 +69,46 @@ class QuietStarts {
   }
 
   // Watches the entry find() just gave, still quiet at window end watched_through(); `crc`:
-  // the register of its CRC search up to there, where it watches that search.
+  // the register of its CRC search up to there, where it watches that search. Watches of
+  // another epoch than the entry's end.
   void watch(const QuietStart& quiet, std::uint16_t crc);
   // The answer of a watched start: kNotWatched, or whether it waits for bytes. Valid while
-  // the window end is watched_through().
+  // the window end is watched_through() and the epoch the one any_watched() was asked with.
   enum Answer : std::uint8_t { kNotWatched = 0, kQuiet = 1, kQuietPending = 2 };
   [[nodiscard]] Answer watched_answer(std::uint64_t start) const {
     return static_cast<Answer>(answer_[start % kSlots]);
   }
   [[nodiscard]] std::uint64_t watched_through() const { return through_; }
   [[nodiscard]] bool any_watched() const { return watchers_ > 0; }
+  // Whether starts are watched in `epoch` (the answers of another one do not hold).
+  [[nodiscard]] bool any_watched(std::uint64_t epoch) const {
+    return watchers_ > 0 && epoch == epoch_;
+  }
 
   // The window end moved from watched_through() to `through` over `bytes`, with no silence
   // before any of them: a watch ends where the window reaches its `until`, or where the
   // CRC search it waits on comes out zero.
   void run_on(std::span<const std::uint8_t> bytes, std::uint64_t through);
   // The window end moved to `through` in a way watching does not follow (a silence, several
-  // bytes at once), or what the searches assumed changed (the framer's epoch): every
-  // start answers for itself again.
-  void unwatch_all(std::uint64_t through);
+  // bytes at once): every start answers for itself again.
+  void unwatch_all(std::uint64_t through) {
+    through_ = through;
+    if (watchers_ > 0) unwatch_every();
+  }
   void unwatch(std::uint64_t start) {
     if (watchers_ > 0) unwatch_slot(start % kSlots);
   }
   // Starts [first, first + count) left the window.
   void unwatch_range(std::uint64_t first, std::size_t count) {
-    for (std::size_t i = 0; i < count && watchers_ > 0; ++i) unwatch_slot((first + i) % kSlots);
+    if (watchers_ > 0) unwatch_slots(first, count);
   }
 
  private:
   static constexpr std::size_t kSlots = 2048;  // the framer's window
   static constexpr std::size_t kWords = kSlots / 64;
   void run_on_one(std::uint8_t byte, std::uint64_t through);
+  void unwatch_every();
+  void unwatch_slots(std::uint64_t first, std::size_t count);
   // Calls ends(slot) for each watched slot, and ends the watches for which it says true.
   template <typename Ends>
   void for_each_watched(Ends&& ends) {
@@ -132,6 +141,7 @@ class QuietStarts {
   std::array<bool, kSlots> crc_ends_{};
   std::size_t watchers_ = 0;
   std::uint64_t through_ = 0;
+  std::uint64_t epoch_ = 0;  // of the watched entries
 };
 
 }  // namespace rtu

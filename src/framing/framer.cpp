@@ -486,12 +486,14 @@ Framer::Verdict Framer::decide_head(bool at_end) {
   const bool any_watched = !at_end && quiet_starts_.any_watched(epoch_);
   for (std::size_t p = std::max<std::size_t>(1, scan_resume_); p < n; ++p) {
     if (any_watched) {
-      // A watched start answers as it did: nothing yet (see quiet_starts.hpp).
-      const auto answer = quiet_starts_.watched_answer(consumed_ + p);
-      if (answer != QuietStarts::kNotWatched) {
-        if (answer == QuietStarts::kQuietPending && first_pending == 0) first_pending = p;
-        continue;
+      // Watched starts answer as they did: nothing yet (see quiet_starts.hpp).
+      std::uint64_t watched_pending = QuietStarts::kNone;
+      p = static_cast<std::size_t>(
+          quiet_starts_.skip_watched(consumed_ + p, consumed_ + n, watched_pending) - consumed_);
+      if (first_pending == 0 && watched_pending != QuietStarts::kNone) {
+        first_pending = static_cast<std::size_t>(watched_pending - consumed_);
       }
+      if (p == n) break;
     }
     bool pending = false;
     if (settled_or_confirmed_length(p, at_end, &pending) > 0) {

@@ -76,8 +76,16 @@ class QuietStarts {
   // the window end is watched_through() and the epoch the one any_watched() was asked with.
   enum Answer : std::uint8_t { kNotWatched = 0, kQuiet = 1, kQuietPending = 2 };
   [[nodiscard]] Answer watched_answer(std::uint64_t start) const {
-    return static_cast<Answer>(answer_[start % kSlots]);
+    const std::size_t slot = start % kSlots;
+    if (!test(watched_, slot)) return kNotWatched;
+    return test(pending_, slot) ? kQuietPending : kQuiet;
   }
+  // The first start in [from, to) that is not watched, or `to`, a word of starts at a time;
+  // sets `first_pending` to the first watched start before it whose answer waits for bytes,
+  // if any and if it is kNone. Starts are absolute positions, as in find().
+  static constexpr std::uint64_t kNone = UINT64_MAX;
+  [[nodiscard]] std::uint64_t skip_watched(std::uint64_t from, std::uint64_t to,
+                                           std::uint64_t& first_pending) const;
   [[nodiscard]] std::uint64_t watched_through() const { return through_; }
   [[nodiscard]] bool any_watched() const { return watchers_ > 0; }
   // Whether starts are watched in `epoch` (the answers of another one do not hold).
@@ -123,19 +131,23 @@ class QuietStarts {
       }
     }
   }
+  static bool test(const std::array<std::uint64_t, kWords>& bits, std::size_t slot) {
+    return ((bits[slot / 64] >> (slot % 64)) & 1U) != 0;
+  }
   void unwatch_slot(std::size_t slot) {
-    if (answer_[slot] == kNotWatched) return;
-    answer_[slot] = kNotWatched;
-    watched_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
+    if (!test(watched_, slot)) return;
+    const std::uint64_t clear = ~(std::uint64_t{1} << (slot % 64));
+    watched_[slot / 64] &= clear;
+    pending_[slot / 64] &= clear;
     --watchers_;
   }
 
   std::array<QuietStart, kSlots> slots_{};
-  // Watched starts, by slot: the answer, a bit to find them, and what run_on() reads, side by
-  // side: when the watch ends, and the CRC register of the search it waits on (where
-  // `crc_ends_` is set: else a zero of the register means nothing).
-  std::array<std::uint8_t, kSlots> answer_{};
+  // Watched starts, by slot: a bit each, set in `pending_` too where the answer waits for
+  // bytes, and what run_on() reads, side by side: when the watch ends, and the CRC register
+  // of the search it waits on (where `crc_ends_` is set: else a zero of it means nothing).
   std::array<std::uint64_t, kWords> watched_{};
+  std::array<std::uint64_t, kWords> pending_{};
   std::array<std::uint64_t, kSlots> until_{};
   std::array<std::uint16_t, kSlots> crc_{};
   std::array<bool, kSlots> crc_ends_{};

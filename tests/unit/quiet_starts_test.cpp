@@ -180,5 +180,44 @@ TEST(QuietStarts, AWatchEndsAtAZeroOfItsCrcAtItsUntilOrWhenAsked) {
   EXPECT_EQ(quiet.watched_through(), 108U);
 }
 
+// skip_watched() answers what asking each start's watched_answer() in turn would, a word of
+// starts at a time, round the ring of slots too.
+TEST(QuietStarts, SkippingWatchedStartsAgreesWithAskingEachOne) {
+  std::mt19937 random(11);
+  for (const std::uint64_t base : {std::uint64_t{0}, std::uint64_t{1500}, std::uint64_t{4090}}) {
+    QuietStarts quiet;
+    quiet.unwatch_all(base + 1024);
+    for (std::uint64_t start = base; start < base + 1024; ++start) {
+      if (random() % 16 == 0) continue;  // a start that is not watched
+      const QuietStart entry{start, 1, base + 2000, false, random() % 4 == 0, false};
+      quiet.remember(entry);
+      quiet.watch(entry, 0);
+    }
+    for (int ask = 0; ask < 2000; ++ask) {
+      const std::uint64_t from = base + random() % 1024;
+      const std::uint64_t to = from + random() % (base + 1025 - from);
+      std::uint64_t expected_stop = to;
+      std::uint64_t expected_pending = QuietStarts::kNone;
+      for (std::uint64_t start = from; start < to; ++start) {
+        const auto answer = quiet.watched_answer(start);
+        if (answer == QuietStarts::kNotWatched) {
+          expected_stop = start;
+          break;
+        }
+        if (answer == QuietStarts::kQuietPending && expected_pending == QuietStarts::kNone) {
+          expected_pending = start;
+        }
+      }
+      std::uint64_t pending = QuietStarts::kNone;
+      ASSERT_EQ(quiet.skip_watched(from, to, pending), expected_stop) << from << ".." << to;
+      ASSERT_EQ(pending, expected_pending) << from << ".." << to;
+      // A pending start found earlier is kept.
+      std::uint64_t earlier = from;
+      ASSERT_EQ(quiet.skip_watched(from, to, earlier), expected_stop);
+      ASSERT_EQ(earlier, from);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rtu

@@ -41,8 +41,9 @@ std::uint64_t QuietStarts::skip_watched(std::uint64_t from, std::uint64_t to,
     if (first_pending == kNone) {
       const std::uint64_t before = unwatched == 0 ? in_range : (unwatched & -unwatched) - 1;
       const std::uint64_t pending = (pending_[slot / 64] >> shift) & before;
-      if (pending != 0)
+      if (pending != 0) {
         first_pending = start + static_cast<std::uint64_t>(std::countr_zero(pending));
+      }
     }
     if (unwatched != 0) return start + static_cast<std::uint64_t>(std::countr_zero(unwatched));
     start += count;

@@ -17,12 +17,13 @@
 // Asking each waiting start again on every byte (a look-up, and for one that waits on its
 // CRC search a step of that search) took nearly all of the framer's time where reads
 // hold a byte or a few and nothing forms a frame (noise, or traffic read at the wrong baud
-// rate): some 250 starts wait. So a start found still quiet is also *watched*: its
-// answer is kept in a byte the framer reads in a tight loop, and what can end it is checked
-// here for all watched starts at once as the window grows: the window reaching `until`, and
-// for a start that waits on its CRC search a zero of its CRC register (kept here and run on
-// over each new byte) or a silence. Watching only ever answers "still quiet"; anything
-// else ends it, and the start's own search answers again.
+// rate): some 250 starts wait. So a start found still quiet is also *watched*: the framer
+// steps over watched starts 64 at a time (a bit each, and a second one where the answer
+// waits for bytes), and what can end a watch is checked here for all watched starts at once
+// as the window grows: the window reaching `until`, and for a start that waits on its CRC
+// search a zero of its CRC register (kept here and run on over each new byte) or a
+// silence. Watching only ever answers "still quiet"; anything else ends it, and the
+// start's own search answers again.
 #include <array>
 #include <bit>
 #include <cstddef>
@@ -82,7 +83,8 @@ class QuietStarts {
   }
   // The first start in [from, to) that is not watched, or `to`, a word of starts at a time;
   // sets `first_pending` to the first watched start before it whose answer waits for bytes,
-  // if any and if it is kNone. Starts are absolute positions, as in find().
+  // if any and if it is kNone. Starts are absolute positions, as in find(), and [from, to)
+  // is at most the framer's window.
   static constexpr std::uint64_t kNone = UINT64_MAX;
   [[nodiscard]] std::uint64_t skip_watched(std::uint64_t from, std::uint64_t to,
                                            std::uint64_t& first_pending) const;

@@ -25,30 +25,12 @@ std::string seconds_text(Nanos t) {
 BackwardTimeClamp::BackwardTimeClamp(std::string file, WarningSink sink)
     : file_(std::move(file)), sink_(std::move(sink)) {}
 
-bool BackwardTimeClamp::goes_backwards(Nanos t) {
-  if (!have_last_ || t >= last_) return false;
-  ++clamped_;
-  return true;
-}
-
-Nanos BackwardTimeClamp::admit(Nanos t, std::string_view text, std::uint64_t line) {
-  if (goes_backwards(t)) {
-    if (clamped_ <= kDetailed && sink_) {
-      sink_(fmt::format("{}:{}: timestamp goes backwards ({} after {} on line {}); using {}", file_,
-                        line, text, last_text(), last_position_, last_text()));
-    }
-    return last_;  // last_text() and last_position_ keep naming the time in force
+Nanos BackwardTimeClamp::clamp(std::string_view text, std::uint64_t line) {
+  if (clamped_ <= kDetailed && sink_) {
+    sink_(fmt::format("{}:{}: timestamp goes backwards ({} after {} on line {}); using {}", file_,
+                      line, text, last_text(), last_position_, last_text()));
   }
-  have_last_ = true;
-  last_ = t;
-  if (text.size() <= kShortText) {
-    std::memcpy(last_short_text_.data(), text.data(), text.size());
-  } else {
-    last_long_text_.assign(text);
-  }
-  last_text_size_ = text.size();
-  last_position_ = line;
-  return t;
+  return last_;  // last_text() and last_position_ keep naming the time in force
 }
 
 Nanos BackwardTimeClamp::admit_at_offset(Nanos t, std::uint64_t offset) {

@@ -5,6 +5,7 @@
 // twice can silence the second pass and tests can collect the messages.
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -29,8 +30,21 @@ class BackwardTimeClamp {
   static constexpr int kDetailed = 5;
 
   BackwardTimeClamp(std::string file, WarningSink sink);
-  // `text` is the time as written in the input, for the message.
-  Nanos admit(Nanos t, std::string_view text, std::uint64_t line);
+  // `text` is the time as written in the input, for the message. Inline: a text capture
+  // admits a time at every line, and nearly every one is in order.
+  Nanos admit(Nanos t, std::string_view text, std::uint64_t line) {
+    if (goes_backwards(t)) return clamp(text, line);
+    have_last_ = true;
+    last_ = t;
+    if (text.size() <= kShortText) {
+      copy_short(last_short_text_.data(), text.data(), text.size());
+    } else {
+      last_long_text_.assign(text);
+    }
+    last_text_size_ = text.size();
+    last_position_ = line;
+    return t;
+  }
   // A record at byte `offset` of a binary file.
   Nanos admit_at_offset(Nanos t, std::uint64_t offset);
   // Reports the occurrences not yet reported one by one. Call at the end of the input; only
@@ -40,7 +54,30 @@ class BackwardTimeClamp {
 
  private:
   // True when `t` must be clamped to last_ (and then counts it).
-  bool goes_backwards(Nanos t);
+  bool goes_backwards(Nanos t) {
+    if (!have_last_ || t >= last_) return false;
+    ++clamped_;
+    return true;
+  }
+  // Reports a time of `text` on `line` that went back, and returns the time in force.
+  Nanos clamp(std::string_view text, std::uint64_t line);
+  // Copies `n` (at most 40) bytes with a few fixed-size moves that may overlap, where a
+  // memcpy of variable length is a call.
+  static void copy_short(char* to, const char* from, std::size_t n) {
+    if (n >= 16) {
+      std::memcpy(to, from, 16);
+      if (n > 32) std::memcpy(to + 16, from + 16, 16);
+      std::memcpy(to + n - 16, from + n - 16, 16);
+    } else if (n >= 8) {
+      std::memcpy(to, from, 8);
+      std::memcpy(to + n - 8, from + n - 8, 8);
+    } else if (n >= 4) {
+      std::memcpy(to, from, 4);
+      std::memcpy(to + n - 4, from + n - 4, 4);
+    } else {
+      for (std::size_t k = 0; k < n; ++k) to[k] = from[k];
+    }
+  }
 
   std::string file_;
   WarningSink sink_;

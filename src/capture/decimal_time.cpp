@@ -1,9 +1,9 @@
 #include "capture/decimal_time.hpp"
 
-#include <bit>
-#include <cstring>
 #include <limits>
 #include <optional>
+
+#include "capture/plain_seconds.hpp"
 
 namespace rtu {
 namespace {
@@ -41,66 +41,6 @@ bool scale_to_nanos(DigitAt digit_at, long count, long point, std::uint64_t& out
   }
   out = acc;
   return true;
-}
-
-// The value of eight decimal digits at `p`, or nullopt when any of them is not a digit. The
-// digits are combined in a 64-bit word, pairs then quads then the whole (little-endian byte
-// order: the first digit is the lowest byte), instead of eight dependent multiply-adds.
-std::optional<std::uint64_t> eight_digits(const char* p) {
-  std::uint64_t word = 0;
-  std::memcpy(&word, p, sizeof word);
-  if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap64(word);
-  constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
-  const std::uint64_t digits = word - 0x30 * kOnes;
-  // Each byte must be 0x30..0x39: no borrow out of a byte (high bit clear) and below 10.
-  if (((digits | (digits + 0x76 * kOnes)) & (0x80 * kOnes)) != 0) return std::nullopt;
-  const std::uint64_t pairs = (digits * 10 + (digits >> 8)) & 0x00FF00FF00FF00FFULL;
-  const std::uint64_t quads = (pairs * 100 + (pairs >> 16)) & 0x0000FFFF0000FFFFULL;
-  return (quads * 10000 + (quads >> 32)) & 0xFFFFFFFFULL;
-}
-
-// The shape nearly every capture writes, "1700000000.123456": no sign, no exponent, at most
-// 10 whole and 9 fraction digits, so the value fits int64 ns without rounding. Reads it
-// from the start of `text` up to the first character that cannot continue it, and returns
-// how many characters that was; 0 (and `ns`, `decimals` untouched) when they are not that
-// shape. Plain scalars out, not a ParsedTime: a struct written field by field and then copied
-// whole stalls on the copy, once per line of a text capture.
-std::size_t scan_plain_seconds(std::string_view text, Nanos& ns_out, int& decimals_out) {
-  constexpr std::size_t kMaxWhole = 10;
-  constexpr std::size_t kMaxFraction = 9;
-  std::size_t i = 0;
-  std::uint64_t whole = 0;
-  while (i < text.size() && is_digit(text[i])) {
-    whole = whole * 10U + static_cast<unsigned>(text[i] - '0');
-    if (++i > kMaxWhole) return 0;
-  }
-  const std::size_t whole_digits = i;
-  std::uint64_t fraction = 0;
-  std::size_t fraction_digits = 0;
-  if (i < text.size() && text[i] == '.') {
-    ++i;
-    // Eight fraction digits at once where there are eight (most stamps have 6 or 9).
-    if (text.size() - i >= 8) {
-      if (const auto eight = eight_digits(text.data() + i)) {
-        fraction = *eight;
-        fraction_digits = 8;
-        i += 8;
-      }
-    }
-    while (i < text.size() && is_digit(text[i])) {
-      fraction = fraction * 10U + static_cast<unsigned>(text[i] - '0');
-      if (++fraction_digits > kMaxFraction) return 0;
-      ++i;
-    }
-  }
-  if (whole_digits + fraction_digits == 0) return 0;
-  for (std::size_t d = fraction_digits; d < kMaxFraction; ++d) fraction *= 10U;
-  // Ten whole digits can pass int64 ns (9223372036.854775808): the general parser says so.
-  const std::uint64_t ns = whole * 1'000'000'000U + fraction;
-  if (ns > kMaxMagnitude) return 0;
-  ns_out = static_cast<Nanos>(ns);
-  decimals_out = static_cast<int>(fraction_digits);
-  return i;
 }
 
 void set_ok(ParsedTime& out, Nanos ns, int decimals) {

@@ -26,7 +26,21 @@ class LineReader {
   // on lines longer than kMaxLineLength.
   bool next(std::string_view& line);
 
-  // 1-based number of the line last returned by next().
+  // The unread rest of the buffer, for a caller that reads lines in place: where it finds a
+  // whole line there (up to and including its '\n') in a shape it knows, take_line() consumes
+  // it as next() would have returned it, without a look for the '\n' first or a copy. Empty
+  // before the first fill and at the end of each; next() reads on. Never longer than
+  // kMaxLineLength, so a line found in it whole is never too long.
+  [[nodiscard]] std::string_view buffered() const {
+    return {buffer_.get() + begin_, end_ - begin_};
+  }
+  // Consumes the first `length` characters of buffered(), one whole line with its '\n'.
+  void take_line(std::size_t length) {
+    begin_ += length;
+    ++line_number_;
+  }
+
+  // 1-based number of the line last returned by next() or taken.
   [[nodiscard]] std::uint64_t line_number() const { return line_number_; }
   // What messages call the file (CaptureFile::name).
   [[nodiscard]] const std::string& name() const { return name_; }

@@ -8,6 +8,7 @@
 
 #include "capture/decimal_time.hpp"
 #include "capture/found_text.hpp"
+#include "capture/plain_seconds.hpp"
 #include "core/input_error.hpp"
 
 namespace rtu {
@@ -74,7 +75,7 @@ std::optional<Parity> parse_parity_word(std::string_view text) {
 
 TextHexReader::TextHexReader(const CaptureFile& file, WarningSink warnings)
     : lines_(file), clamp_(file.name, std::move(warnings)) {
-  bytes_.reserve(4096);  // a read() rarely returns more; longer lines grow it once
+  bytes_.resize(4096);  // a read() rarely returns more; longer lines grow it once
   // Read up to the first data line, so that the settings comments before it are known.
   have_pending_ = read_data_line();
 }
@@ -92,13 +93,14 @@ bool TextHexReader::next(Chunk& out) {
   }
   out.t_end = pending_t_;
   out.t_first_start = kUnknownTime;
-  out.bytes = bytes_;
+  out.bytes = std::span<const std::uint8_t>(bytes_.data(), byte_count_);
   out.errors = {};
   out.origin = pending_line_;
   return true;
 }
 
 bool TextHexReader::read_data_line() {
+  if (read_plain_data_line()) return true;
   std::string_view line;
   while (lines_.next(line)) {
     const std::size_t start = skip_blanks(line, 0);
@@ -113,6 +115,42 @@ bool TextHexReader::read_data_line() {
   }
   clamp_.finish();
   return false;
+}
+
+bool TextHexReader::read_plain_data_line() {
+  const std::string_view text = lines_.buffered();
+  Nanos ns = 0;
+  int decimals = 0;
+  const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
+  if (stamp_length == 0) return false;
+  const char* p = text.data() + stamp_length;
+  const char* const end = text.data() + text.size();
+  if (p == end || !is_blank(*p)) return false;
+  // Room for every pair the buffer could hold, so that the loop stores without a check.
+  if (bytes_.size() < text.size() / 2) bytes_.resize(text.size() / 2);
+  std::uint8_t* const bytes = bytes_.data();
+  std::size_t count = 0;
+  for (;;) {
+    while (p != end && is_blank(*p)) ++p;
+    if (p == end) return false;  // the line goes on past the buffer (or the file ends)
+    if (p[0] == '\n') break;
+    if (end - p < 2) return false;
+    if (p[0] == '\r' && p[1] == '\n') break;  // next() drops the '\r' before a '\n'
+    const int high = hex_value(p[0]);
+    const int low = hex_value(p[1]);
+    if ((high | low) < 0) return false;
+    bytes[count++] = static_cast<std::uint8_t>((high << 4) | low);
+    p += 2;
+  }
+  if (count == 0) return false;
+  byte_count_ = count;
+  const std::size_t line_end = static_cast<std::size_t>(p - text.data()) + (p[0] == '\r' ? 2 : 1);
+  lines_.take_line(line_end);
+  if (decimals > max_decimals_) max_decimals_ = decimals;
+  pending_line_ = lines_.line_number();
+  pending_t_ = clamp_.admit(ns, text.substr(0, stamp_length), pending_line_);
+  seen_data_ = true;
+  return true;
 }
 
 void TextHexReader::parse_data(std::string_view line, std::size_t start) {
@@ -134,7 +172,8 @@ void TextHexReader::parse_data(std::string_view line, std::size_t start) {
   }
   if (t.decimals > max_decimals_) max_decimals_ = t.decimals;
 
-  bytes_.clear();
+  if (bytes_.size() < line.size() / 2) bytes_.resize(line.size() / 2);
+  byte_count_ = 0;
   std::size_t pos = start + stamp.size();
   if (pos < line.size() && !is_blank(line[pos])) {
     fail(pos, fmt::format("expected a space after the timestamp, found {}",
@@ -149,10 +188,10 @@ void TextHexReader::parse_data(std::string_view line, std::size_t start) {
       fail(pos,
            fmt::format("expected hex byte pair, found {}", found_text(word_at(line, pos, '#'))));
     }
-    bytes_.push_back(static_cast<std::uint8_t>((high << 4) | low));
+    bytes_[byte_count_++] = static_cast<std::uint8_t>((high << 4) | low);
     pos += 2;
   }
-  if (bytes_.empty()) {
+  if (byte_count_ == 0) {
     fail(pos, fmt::format("expected hex bytes after the timestamp, found {}",
                           found_text(word_at(line, pos))));
   }

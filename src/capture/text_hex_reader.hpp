@@ -62,6 +62,11 @@ class TextHexReader final : public ChunkSource {
   };
   // Reads the next data line into the buffers; false at the end of the file.
   bool read_data_line();
+  // The same for the shape nearly every data line has ("1700000000.123456 01 03", unsigned
+  // plain decimal time, blanks, hex pairs, '\n'), parsed in place in the line reader's buffer.
+  // False, with nothing consumed, for any other line (comments, errors, a line that runs past
+  // the buffer): read_data_line() then reads it as before, so it gives the same chunks.
+  bool read_plain_data_line();
   void parse_comment(std::string_view line, std::size_t hash_pos);
   void parse_data(std::string_view line, std::size_t start);
   [[noreturn]] void fail(std::size_t column0, std::string_view what) const;
@@ -74,7 +79,10 @@ class TextHexReader final : public ChunkSource {
   int max_decimals_ = -1;
   Nanos pending_t_ = 0;
   std::uint64_t pending_line_ = 0;
+  // The line's bytes are the first byte_count_ of bytes_, which is kept at least half as long
+  // as any line read (a byte takes two characters), so parsing never checks for room.
   std::vector<std::uint8_t> bytes_;
+  std::size_t byte_count_ = 0;
 };
 
 }  // namespace rtu

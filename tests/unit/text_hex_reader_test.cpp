@@ -1,7 +1,10 @@
 #include "capture/text_hex_reader.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -261,6 +264,126 @@ TEST(TextHexReader, VeryLongLinesAreReadWhole) {
   EXPECT_EQ(chunks[0].bytes.back(), 0x5A);
   EXPECT_EQ(chunks[1].bytes, (Bytes{0x01}));
   EXPECT_EQ(chunks[1].origin, 3U);
+}
+
+// Nearly every data line is read in place in the line reader's buffer; a line that starts
+// with a blank never is (nor is any line it does not know whole). So the same text with a
+// blank before every line must give the same chunks, warnings and precision, whatever the
+// shapes of its lines and wherever the buffer's ends cut them, and refuse the same lines.
+TEST(TextHexReader, LinesReadInPlaceGiveWhatReadingLineByLineGives) {
+  std::mt19937 random(11);
+  const auto pick = [&random](unsigned n) { return static_cast<unsigned>(random() % n); };
+  const auto digits = [&](unsigned n) {
+    std::string d;
+    for (unsigned i = 0; i < n; ++i) d += static_cast<char>('0' + pick(10));
+    return d;
+  };
+  const auto blanks = [&] {
+    static const char* const kBlanks[] = {" ", " ", " ", "\t", "  ", " \t "};
+    return std::string(kBlanks[pick(6)]);
+  };
+  const auto good_line = [&](std::uint64_t& seconds) -> std::string {
+    const unsigned kind = pick(100);
+    if (kind < 3) return pick(2) == 0 ? "# a note" : (pick(2) == 0 ? "" : " \t");
+    // Mostly in order; now and then a step back, which is clamped and reported.
+    seconds = pick(50) == 0 ? seconds - pick(5) : seconds + pick(3);
+    std::string stamp = kind < 6 ? digits(1 + pick(9)) : std::to_string(seconds);
+    const unsigned decimals = pick(14);  // 10 and more: the general parser's
+    if (decimals > 0 || pick(4) == 0) stamp += '.';
+    stamp += digits(decimals);
+    if (kind < 8) stamp.insert(0, pick(2) == 0 ? "-" : "+");
+    std::string line = stamp + blanks();
+    const unsigned pairs = pick(400) == 0 ? 3000 + pick(20000) : 1 + pick(8);
+    for (unsigned i = 0; i < pairs; ++i) {
+      const unsigned byte = pick(256);
+      line += pick(2) == 0 ? fmt::format("{:02x}", byte) : fmt::format("{:02X}", byte);
+      if (pick(4) != 0) line += blanks();
+    }
+    if (pick(20) == 0) line += "# trailing";
+    if (pick(10) == 0) line += '\r';
+    return line;
+  };
+  const auto both_ways = [](const std::vector<std::string>& lines) {
+    std::pair<std::string, std::string> texts;
+    for (const std::string& line : lines) {
+      texts.first += line + '\n';
+      texts.second += ' ' + line + '\n';
+    }
+    texts.first.pop_back();  // the last line without its '\n'
+    texts.second.pop_back();
+    return texts;
+  };
+  struct Reading {
+    std::vector<testing::CopiedChunk> chunks;
+    std::vector<std::string> warnings;
+    Nanos precision = 0;
+    std::string error;  // without its column, which the blank moves
+  };
+  TempDir dir;
+  const auto read = [&dir](const std::string& content) {
+    Reading r;
+    const auto path = dir.write("t.hex", content);
+    try {
+      TextHexReader reader(path, [&r](std::string_view m) { r.warnings.emplace_back(m); });
+      r.chunks = read_all(reader);
+      r.precision = reader.timestamp_precision();
+    } catch (const InputError& e) {
+      const std::string message = e.what();  // FILE:LINE:COLUMN: what
+      const auto line_end = message.find(':', path.size() + 1);
+      r.error = message.substr(0, line_end) + message.substr(message.find(':', line_end + 1));
+    }
+    return r;
+  };
+  const auto expect_same = [&](const std::vector<std::string>& lines) {
+    const auto [in_place, line_by_line] = both_ways(lines);
+    const Reading a = read(in_place);
+    const Reading b = read(line_by_line);
+    EXPECT_EQ(a.error, b.error);
+    EXPECT_EQ(a.chunks.size(), b.chunks.size());
+    for (std::size_t i = 0; i < std::min(a.chunks.size(), b.chunks.size()); ++i) {
+      const bool same = a.chunks[i].t_end == b.chunks[i].t_end &&
+                        a.chunks[i].bytes == b.chunks[i].bytes &&
+                        a.chunks[i].origin == b.chunks[i].origin;
+      if (!same) {
+        ADD_FAILURE() << "chunk " << i << " differs, line " << a.chunks[i].origin << " / "
+                      << b.chunks[i].origin;
+        break;
+      }
+    }
+    EXPECT_EQ(a.warnings, b.warnings);
+    EXPECT_EQ(a.precision, b.precision);
+    return a;
+  };
+
+  std::uint64_t seconds = 1000;
+  std::vector<std::string> lines;
+  for (int n = 0; n < 30000; ++n) lines.push_back(good_line(seconds));
+  const Reading all = expect_same(lines);
+  EXPECT_EQ(all.error, "");
+  EXPECT_GT(all.chunks.size(), 25000U);
+  EXPECT_GT(all.warnings.size(), 5U);
+
+  // Each refused line after good ones (each time a different stretch of the buffer).
+  const char* const kRefused[] = {"1e3 01",
+                                  "1.5 0G",
+                                  "1.5",
+                                  "1.5#c 01",
+                                  "1.5 012",
+                                  "1.5x 01",
+                                  "12345678901 01",
+                                  "1.0 01\r\r",
+                                  "1.5 01\r \r",
+                                  "\xEF\xBB\xBF"
+                                  "1.5 01"};
+  for (const char* refused : kRefused) {
+    lines.resize(500 + pick(3000));
+    for (auto& line : lines) line = good_line(seconds);
+    lines.emplace_back(refused);
+    lines.push_back(good_line(seconds));
+    const Reading r = expect_same(lines);
+    EXPECT_NE(r.error.find(fmt::format(":{}: ", lines.size() - 1)), std::string::npos)
+        << refused << ": " << r.error;
+  }
 }
 
 TEST(TextHexReader, MillionLinesStreamWithFlatMemory) {

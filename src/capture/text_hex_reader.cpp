@@ -88,7 +88,7 @@ void TextHexReader::fail(std::size_t column0, std::string_view what) const {
 bool TextHexReader::next(Chunk& out) {
   if (have_pending_) {
     have_pending_ = false;
-  } else if (!read_data_line()) {
+  } else if (!read_plain_data_line() && !read_data_line()) {
     return false;
   }
   out.t_end = pending_t_;
@@ -100,7 +100,6 @@ bool TextHexReader::next(Chunk& out) {
 }
 
 bool TextHexReader::read_data_line() {
-  if (read_plain_data_line()) return true;
   std::string_view line;
   while (lines_.next(line)) {
     const std::size_t start = skip_blanks(line, 0);

@@ -65,7 +65,7 @@ class TextHexReader final : public ChunkSource {
   // The same for the shape nearly every data line has ("1700000000.123456 01 03", unsigned
   // plain decimal time, blanks, hex pairs, '\n'), parsed in place in the line reader's buffer.
   // False, with nothing consumed, for any other line (comments, errors, a line that runs past
-  // the buffer): read_data_line() then reads it as before, so it gives the same chunks.
+  // the buffer): read_data_line() then reads it line by line, and gives the same chunk.
   bool read_plain_data_line();
   void parse_comment(std::string_view line, std::size_t hash_pos);
   void parse_data(std::string_view line, std::size_t start);

@@ -6,7 +6,10 @@
 // - the replay (replay_capture, two passes): every byte read leaves in exactly one record,
 //   and damage ends it with an InputError naming a line;
 // - one read for a file that declares its line settings (one_read_oracle.hpp), as `report`
-//   and `export` read a per-byte text capture with a "# baud=..." line.
+//   and `export` read a per-byte text capture with a "# baud=..." line;
+// - the reading of data lines in place in the line buffer: the same text with a blank before
+//   every line (which that reading refuses, so every line is read line by line) gives the
+//   same items, and fails where the original fails.
 #include <cstddef>
 #include <cstdint>
 #include <exception>
@@ -26,6 +29,34 @@
 namespace {
 
 constexpr std::string_view kTarget = "fuzz_text_hex";
+
+// `text` with a blank before every line (after a byte-order mark, which only starts line 1).
+std::string blank_before_every_line(std::string_view text) {
+  constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+  std::string out;
+  out.reserve(text.size() + text.size() / 8 + 1);
+  if (text.substr(0, kUtf8Bom.size()) == kUtf8Bom) {
+    out += kUtf8Bom;
+    text.remove_prefix(kUtf8Bom.size());
+  }
+  bool line_start = true;
+  for (const char c : text) {
+    if (line_start) out += ' ';
+    out += c;
+    line_start = c == '\n';
+  }
+  return out;
+}
+
+bool same_items(const rtu::fuzz::CaptureRead& a, const rtu::fuzz::CaptureRead& b) {
+  if (a.failed != b.failed || a.items.size() != b.items.size()) return false;
+  for (std::size_t i = 0; i < a.items.size(); ++i) {
+    const auto& x = a.items[i];
+    const auto& y = b.items[i];
+    if (x.kind != y.kind || x.bytes != y.bytes || x.t != y.t || x.origin != y.origin) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -65,5 +96,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                     std::to_string(sink.bytes) + " of " + std::to_string(bytes_read));
   }
   rtu::fuzz::check_one_read(kTarget, open, options, sink, surveyed_info);
+
+  const std::string line_by_line = blank_before_every_line(text);
+  file.write(reinterpret_cast<const std::uint8_t*>(line_by_line.data()), line_by_line.size());
+  rules.text = line_by_line;
+  if (!same_items(read, rtu::fuzz::read_and_check(open, path, rules))) {
+    rtu::fuzz::fail(kTarget, "reading lines in place and line by line disagree", "");
+  }
   return 0;
 }

@@ -23,15 +23,17 @@ class ByteArena {
   };
 
   Run add(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> errors = {}) {
-    Run run{static_cast<std::uint32_t>(bytes_.size()), static_cast<std::uint32_t>(bytes.size()),
+    Run run{static_cast<std::uint32_t>(size_), static_cast<std::uint32_t>(bytes.size()),
             !errors.empty()};
+    make_room(bytes.size());
     if (bytes.size() == 1) {
-      bytes_.push_back(bytes[0]);  // a per-byte capture's every read: no range insert
-    } else {
-      bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
+      bytes_[size_] = bytes[0];  // a per-byte capture's every read: no call to copy one byte
+    } else if (!bytes.empty()) {
+      std::copy(bytes.begin(), bytes.end(), bytes_.begin() + static_cast<std::ptrdiff_t>(size_));
     }
+    size_ += bytes.size();
     if (run.has_errors) {
-      errors_.resize(bytes_.size(), 0);  // earlier runs' places stay zero
+      errors_.resize(size_, 0);  // earlier runs' places stay zero
       std::copy(errors.begin(), errors.end(),
                 errors_.begin() + static_cast<std::ptrdiff_t>(run.at));
     }
@@ -39,7 +41,8 @@ class ByteArena {
   }
   // Appends one error-free byte to `run`, which must be the last run added.
   void extend(Run& run, std::uint8_t byte) {
-    bytes_.push_back(byte);
+    make_room(1);
+    bytes_[size_++] = byte;
     ++run.size;
   }
   [[nodiscard]] std::span<const std::uint8_t> bytes(const Run& run) const {
@@ -50,14 +53,24 @@ class ByteArena {
     if (!run.has_errors) return {};
     return {errors_.data() + run.at, run.size};
   }
-  [[nodiscard]] std::size_t size() const { return bytes_.size(); }
+  [[nodiscard]] std::size_t size() const { return size_; }
   void clear() {
-    bytes_.clear();
+    size_ = 0;
     errors_.clear();
   }
 
  private:
+  // bytes_ is kept longer than what it holds (size_), and grows by doubling: a byte is then
+  // stored after one compare, where a push_back was a call.
+  void make_room(std::size_t more) {
+    if (bytes_.size() - size_ < more) [[unlikely]]
+      grow(more);
+  }
+  [[gnu::noinline]] void grow(std::size_t more) {
+    bytes_.resize(std::max({bytes_.size() * 2, size_ + more, std::size_t{4096}}));
+  }
   std::vector<std::uint8_t> bytes_;
+  std::size_t size_ = 0;
   std::vector<std::uint8_t> errors_;
 };
 

@@ -38,8 +38,9 @@ struct ReadAhead::Batch {
   ByteArena arena;
   // The end times of the reads of kByteReads items, in order: byte_time_count of them. A
   // batch is full at kBatchItems, so their room is fixed and a time is stored unchecked,
-  // once per byte of a per-byte capture.
-  std::unique_ptr<Nanos[]> byte_times = std::make_unique<Nanos[]>(kBatchItems);
+  // once per byte of a per-byte capture. Not zeroed: a capture of other reads never touches
+  // (so never maps) it.
+  std::unique_ptr<Nanos[]> byte_times = std::make_unique_for_overwrite<Nanos[]>(kBatchItems);
   std::size_t byte_time_count = 0;
   std::uint64_t bytes_read = 0;  // the reader's progress once the batch was full
   bool last = false;             // the reader ended (or failed) after these items

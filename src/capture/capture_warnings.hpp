@@ -5,11 +5,11 @@
 // twice can silence the second pass and tests can collect the messages.
 #include <array>
 #include <cstdint>
-#include <cstring>
 #include <functional>
 #include <string>
 #include <string_view>
 
+#include "core/short_copy.hpp"
 #include "core/time.hpp"
 
 namespace rtu {
@@ -62,23 +62,6 @@ class BackwardTimeClamp {
   }
   // Reports a time of `text` on `line` that went back, and returns the time in force.
   Nanos clamp(std::string_view text, std::uint64_t line);
-  // Copies `n` (at most 40) bytes with a few fixed-size moves that may overlap, where a
-  // memcpy of variable length is a call.
-  static void copy_short(char* to, const char* from, std::size_t n) {
-    if (n >= 16) {
-      std::memcpy(to, from, 16);
-      if (n > 32) std::memcpy(to + 16, from + 16, 16);
-      std::memcpy(to + n - 16, from + n - 16, 16);
-    } else if (n >= 8) {
-      std::memcpy(to, from, 8);
-      std::memcpy(to + n - 8, from + n - 8, 8);
-    } else if (n >= 4) {
-      std::memcpy(to, from, 4);
-      std::memcpy(to + n - 4, from + n - 4, 4);
-    } else {
-      for (std::size_t k = 0; k < n; ++k) to[k] = from[k];
-    }
-  }
 
   std::string file_;
   WarningSink sink_;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/short_copy.hpp"
+
 namespace rtu {
 
 void JsonWriter::separate() {
@@ -48,7 +50,7 @@ void JsonWriter::key(std::string_view name) {
   out_.resize(at + name.size() + 3);
   char* p = out_.data() + at;
   *p++ = '"';
-  std::memcpy(p, name.data(), name.size());
+  copy_short(p, name.data(), name.size());
   p += name.size();
   *p++ = '"';
   *p = ':';
@@ -66,7 +68,7 @@ bool needs_escape(char c) {
 void put(fmt::memory_buffer& out, std::string_view text) {
   const std::size_t at = out.size();
   out.resize(at + text.size());
-  std::memcpy(out.data() + at, text.data(), text.size());
+  copy_short(out.data() + at, text.data(), text.size());
 }
 
 void append_integer(fmt::memory_buffer& out, const fmt::format_int& digits) {

@@ -12,9 +12,8 @@
 namespace rtu {
 namespace {
 
-constexpr std::size_t kBufferSize = 64U * 1024U;
 constexpr std::size_t kTypicalLine = 4096;
-static_assert(kBufferSize <= LineReader::kMaxLineLength,
+static_assert(LineReader::kBufferSize <= LineReader::kMaxLineLength,
               "a line that buffered() holds whole is never too long");
 
 }  // namespace

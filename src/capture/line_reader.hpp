@@ -16,6 +16,8 @@ class LineReader {
   // Lines longer than this are unusable input (a text capture line holds one read() worth of
   // bytes, a CSV row one byte); the limit keeps a corrupt file from eating memory.
   static constexpr std::size_t kMaxLineLength = 1U << 20U;
+  // The most a fill reads, and so the longest buffered() can be.
+  static constexpr std::size_t kBufferSize = 64U * 1024U;
 
   // Opens `file`; throws InputError "NAME: cannot open: <strerror>" when that fails.
   explicit LineReader(const CaptureFile& file);

@@ -75,7 +75,9 @@ std::optional<Parity> parse_parity_word(std::string_view text) {
 
 TextHexReader::TextHexReader(const CaptureFile& file, WarningSink warnings)
     : lines_(file), clamp_(file.name, std::move(warnings)) {
-  bytes_.resize(4096);  // a read() rarely returns more; longer lines grow it once
+  // Room for every pair a buffer of the line reader can hold, so that reading lines in place
+  // never grows it (only a longer line read line by line does, once).
+  bytes_.resize(LineReader::kBufferSize / 2);
   // Read up to the first data line, so that the settings comments before it are known.
   have_pending_ = read_data_line();
 }
@@ -125,7 +127,8 @@ bool TextHexReader::read_plain_data_line() {
   const char* p = text.data() + stamp_length;
   const char* const end = text.data() + text.size();
   if (p == end || !is_blank(*p)) return false;
-  // Room for every pair the buffer could hold, so that the loop stores without a check.
+  // The constructor made room for every pair the buffer can hold, so that the loop stores
+  // without a check (and nothing is allocated once reading has begun).
   if (bytes_.size() < text.size() / 2) bytes_.resize(text.size() / 2);
   std::uint8_t* const bytes = bytes_.data();
   std::size_t count = 0;

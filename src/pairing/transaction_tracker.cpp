@@ -67,11 +67,12 @@ void TransactionTracker::handle_request(Record& frame) {
     emit(frame);
     return;
   }
-  open_ = frame;
+  // Only the bytes in use: a whole Record is 360 bytes, most of them unused storage.
+  open_.copy_in_use(frame);
   has_open_ = true;
   answered_ = false;
   released_ = false;
-  held_[0] = frame;
+  held_[0].copy_in_use(frame);
   held_count_ = 1;
 }
 
@@ -134,7 +135,7 @@ void TransactionTracker::emit(Record& record) {
     out_.on_record(record);
     return;
   }
-  held_[held_count_++] = record;
+  held_[held_count_++].copy_in_use(record);
 }
 
 void TransactionTracker::release_held() {

@@ -21,11 +21,13 @@ bool carries_values(const Record& frame) {
 }
 
 std::string_view RawValues::name_of(std::uint64_t key, std::string_view table, std::uint32_t addr) {
+  if (const std::string_view* recent = recent_names_.find(key)) return *recent;
   auto it = names_.find(key);
-  if (it != names_.end()) return it->second;
+  if (it == names_.end()) it = names_.emplace(key, fmt::format("{} 0x{:04X}", table, addr)).first;
   // Names handed out earlier in this call stay valid: unordered_map never moves its nodes,
   // and the cache is only emptied before a record's first value.
-  return names_.emplace(key, fmt::format("{} 0x{:04X}", table, addr)).first->second;
+  recent_names_.put(key, it->second);
+  return it->second;
 }
 
 void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
@@ -33,7 +35,10 @@ void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
   // Only blocks whose byte counts fit exactly, from frames with nothing missing or extra.
   const DataAccess access = data_access(*frame.request, &frame);
   if (!access.issues.empty()) return;
-  if (names_.size() > kMaxNames) names_.clear();
+  if (names_.size() > kMaxNames) {
+    names_.clear();
+    recent_names_.clear();
+  }
   auto add = [&](DataTable table, std::uint32_t addr, double value) {
     PointValue v;
     v.t = frame.t_start;

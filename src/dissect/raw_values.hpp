@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/key_cache.hpp"
 #include "dissect/point_value.hpp"
 #include "framing/record.hpp"
 
@@ -32,6 +33,7 @@ class RawValues {
   std::string_view name_of(std::uint64_t key, std::string_view table, std::uint32_t addr);
   static constexpr std::size_t kMaxNames = 16384;
   std::unordered_map<std::uint64_t, std::string> names_;
+  KeyCache<std::string_view, 512> recent_names_;  // in front of names_, emptied with it
 };
 
 }  // namespace rtu::dissect

@@ -160,8 +160,12 @@ bool is_glitch(const Record& r) {
 }  // namespace
 
 std::map<RequestKind, RequestKindStats>::iterator TrafficStats::find_kind(const RequestKind& kind) {
-  const auto hit = kind_index_.find(packed(kind));
-  return hit == kind_index_.end() ? kinds_.end() : hit->second;
+  const std::uint64_t key = packed(kind);
+  if (const auto* recent = recent_kinds_.find(key)) return *recent;
+  const auto hit = kind_index_.find(key);
+  if (hit == kind_index_.end()) return kinds_.end();
+  recent_kinds_.put(key, hit->second);
+  return hit->second;
 }
 
 std::map<RequestKind, RequestKindStats>::iterator TrafficStats::kind_of_answered(
@@ -490,7 +494,12 @@ void TrafficStats::add_point(const dissect::PointValue& sample) {
   const std::uint64_t index_key =
       sample.key == 0 ? 0 : sample.key ^ (std::uint64_t{sample.slave} << 48U);
   if (index_key != 0) {
+    if (const PointEntry* recent = recent_points_.find(index_key)) {
+      update_point((*recent)->second, sample);
+      return;
+    }
     if (auto hit = point_index_.find(index_key); hit != point_index_.end()) {
+      recent_points_.put(index_key, hit->second);
       update_point(hit->second->second, sample);
       return;
     }

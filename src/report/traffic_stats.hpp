@@ -19,6 +19,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/key_cache.hpp"
 #include "dissect/device_table.hpp"
 #include "dissect/point_value.hpp"
 #include "framing/capture_info.hpp"
@@ -297,6 +298,7 @@ class TrafficStats : public RecordSink {
   // RequestKind packed into 64 bits → its entry in kinds_: found by hashing, not by a walk
   // down the tree at every request and response. std::map entries never move.
   std::unordered_map<std::uint64_t, std::map<RequestKind, RequestKindStats>::iterator> kind_index_;
+  KeyCache<std::map<RequestKind, RequestKindStats>::iterator, 256> recent_kinds_;
   std::map<RequestKind, RequestKindStats>::iterator find_kind(const RequestKind& kind);
   // The kind entry of the request counted last, found again for its response without
   // decoding the request a second time (one master asks one question at a time, so the
@@ -317,6 +319,7 @@ class TrafficStats : public RecordSink {
   // comparing names. std::map entries never move.
   using PointEntry = std::map<std::pair<std::uint8_t, std::string>, PointSeries>::iterator;
   std::unordered_map<std::uint64_t, PointEntry> point_index_;
+  KeyCache<PointEntry, 512> recent_points_;  // in front of point_index_
   LogHistogram master_turnaround_;
   RequestEchoes echoes_;
 

@@ -46,22 +46,6 @@ void Framer::expect_request() {
   expect_response_ = false;
 }
 
-// Called for every byte: kept small enough to inline into push(), with the rare work apart.
-inline void Framer::append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end,
-                                Nanos gap_before, std::uint64_t origin, std::uint16_t chunk_size) {
-  if (end_ == kWindow) [[unlikely]] {
-    slide_window();
-  }
-  settled_.reset((consumed_ + buffered()) % kWindow);  // a new position, not looked at yet
-  bytes_[end_] = value;
-  info_[end_] = ByteInfo{t_end, gap_before, origin, chunk_size, errors};
-  ++end_;
-  last_byte_end_ = t_end;
-  if (buffered() >= kMaxPending) [[unlikely]] {
-    decide(false);
-  }
-}
-
 // Slides the window back to the front; it never holds more than kMaxPending bytes.
 void Framer::slide_window() {
   const std::size_t n = buffered();
@@ -82,7 +66,7 @@ void Framer::push(const Chunk& chunk) {
   const auto chunk_size = static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
   // Everything the loop reads, in locals: its stores into the byte window may alias anything
   // (they are uint8_t), so the compiler would otherwise reload each of these at every byte.
-  // last_byte_end_ is only ever set by append_byte, to the `end` given.
+  // last_byte_end_ is only ever set here, to the `end` of the last byte stored.
   const std::uint8_t* const bytes = chunk.bytes.data();
   const std::uint8_t* const errors = chunk.errors.size() == n ? chunk.errors.data() : nullptr;
   const bool starts_measured = config_.per_byte_exact && chunk.t_first_start != kUnknownTime;
@@ -91,26 +75,48 @@ void Framer::push(const Chunk& chunk) {
   const std::uint64_t origin = chunk.origin;
   const Nanos char_time = char_time_;
   Nanos last_end = last_byte_end_;
-  for (std::size_t i = 0; i < n; ++i) {
-    Nanos end = 0;
-    Nanos gap = kUnknownTime;
-    if (starts_measured) {
-      // Measured start of the first byte; any further bytes follow back to back.
-      const Nanos start = first_start + static_cast<Nanos>(i) * char_time;
-      end = start + char_time;
-      if (last_end != kUnknownTime) gap = std::max<Nanos>(0, start - last_end);
-    } else {
-      // The read completed when the last byte had arrived; earlier bytes arrived at the
-      // latest one character time apart, and never before the previous byte ended.
-      end = read_end - static_cast<Nanos>(n - 1 - i) * char_time;
-      if (last_end != kUnknownTime) {
-        end = std::max(end, last_end + char_time);
-        // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
-        if (i == 0) gap = end - char_time - last_end;
-      }
+  std::size_t i = 0;
+  while (i < n) {
+    if (end_ == kWindow) [[unlikely]] {
+      slide_window();
     }
-    append_byte(bytes[i], errors != nullptr ? errors[i] : 0, end, gap, origin, chunk_size);
-    last_end = end;
+    // A stretch of bytes that neither reaches past the window's end nor forces a decision
+    // before its last byte: the window's room and the forced decision are checked once a
+    // stretch, not at every byte.
+    const std::size_t pending = buffered();
+    const std::size_t until_forced = pending < kMaxPending ? kMaxPending - pending : 1;
+    const std::size_t stretch_end = i + std::min({n - i, kWindow - end_, until_forced});
+    std::size_t slot = (consumed_ + pending) % kWindow;
+    for (; i < stretch_end; ++i) {
+      Nanos end = 0;
+      Nanos gap = kUnknownTime;
+      if (starts_measured) {
+        // Measured start of the first byte; any further bytes follow back to back.
+        const Nanos start = first_start + static_cast<Nanos>(i) * char_time;
+        end = start + char_time;
+        if (last_end != kUnknownTime) gap = std::max<Nanos>(0, start - last_end);
+      } else {
+        // The read completed when the last byte had arrived; earlier bytes arrived at the
+        // latest one character time apart, and never before the previous byte ended.
+        end = read_end - static_cast<Nanos>(n - 1 - i) * char_time;
+        if (last_end != kUnknownTime) {
+          end = std::max(end, last_end + char_time);
+          // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
+          if (i == 0) gap = end - char_time - last_end;
+        }
+      }
+      settled_.reset(slot);  // a new position, not looked at yet
+      slot = (slot + 1) % kWindow;
+      bytes_[end_] = bytes[i];
+      info_[end_] =
+          ByteInfo{end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}};
+      ++end_;
+      last_end = end;
+    }
+    last_byte_end_ = last_end;
+    if (buffered() >= kMaxPending) [[unlikely]] {
+      decide(false);
+    }
   }
   decide(false);
 }
@@ -581,15 +587,17 @@ void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
   fill_record(rec, 0, length);
   classify_frame(rec, crc_confirmed);
 
-  // Timing, only where the timestamps can show it.
-  if (rec.crc_ok) learn_from(length);
-  const Nanos res = resolution_;
+  // Timing, only where the timestamps can show it. The longest silence inside the frame
+  // decides both what it teaches and whether it breaks t1.5 (kUnknownTime, the least Nanos,
+  // never wins against a measured one).
+  Nanos longest_inner_gap = kUnknownTime;
   for (std::size_t i = 1; i < length; ++i) {
-    const Nanos gap = info_at(i).gap_before;
-    if (gap != kUnknownTime && gap - res > t1_5_) {
-      rec.issues.add(IssueId::kT15);
-      break;
-    }
+    longest_inner_gap = std::max(longest_inner_gap, info_at(i).gap_before);
+  }
+  if (rec.crc_ok && longest_inner_gap > resolution_) learn_from(length);
+  const Nanos res = resolution_;
+  if (longest_inner_gap != kUnknownTime && longest_inner_gap - res > t1_5_) {
+    rec.issues.add(IssueId::kT15);
   }
   // Silence since the previous frame; a turnaround glitch between them does not hide it.
   Nanos silence = kUnknownTime;

@@ -124,8 +124,6 @@ class Framer {
   }
   [[nodiscard]] Nanos quiet_to_decide() const { return t3_5_ + delivery_allowance(); }
   void decide_after_silence();  // advance() once the line was quiet long enough
-  void append_byte(std::uint8_t value, std::uint8_t errors, Nanos t_end, Nanos gap_before,
-                   std::uint64_t origin, std::uint16_t chunk_size);
   void slide_window();
   void learn_from(std::size_t length);
   [[nodiscard]] bool reads_are_batched() const;

@@ -221,9 +221,13 @@ bool PcapImporter::next(PcapItem& out) {
     const Nanos t = packet_.t;
     const std::uint32_t interface_id = packet_.interface_id;
     const std::uint32_t section = packet_.section;
-    out = PcapItem{};
+    // Each field set (no reset of the whole item first: this runs at every read).
     out.kind = PcapItem::Kind::kChunk;
+    out.chunk.t_first_start = kUnknownTime;
+    out.chunk.errors = {};
     out.chunk.port = port_of(section, interface_id);
+    out.bytes = {};
+    out.t_start = 0;
     out.offset = at;
     out.resolution = packet_.resolution;
     bytes_.clear();

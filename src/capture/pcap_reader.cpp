@@ -28,6 +28,7 @@ struct Interface {
   // Wireshark writes): a timestamp is ticks × this many ns. 0: the general conversion.
   std::uint64_t ns_per_tick = 0;
   std::uint64_t offset = 0;  // of its IDB (or of the pcap header's link type)
+  bool accepted = false;     // its link type is one the reader accepts (asked once, not per packet)
   std::string name;
   std::string description;
 };
@@ -183,7 +184,7 @@ struct PcapReader::Impl {
   }
 
   void check_link_type(const Interface& iface, std::uint32_t id, std::uint64_t packet_at) {
-    if (accepts(iface.link_type)) return;
+    if (iface.accepted) return;
     if (format == CaptureFileFormat::kPcap) {
       fail(iface.offset, fmt::format("link type {} is not supported; expected {}", iface.link_type,
                                      link_type_list(accepted)));
@@ -225,6 +226,7 @@ struct PcapReader::Impl {
     iface.link_type = static_cast<std::uint16_t>(load_u32(block, 20, order) & 0xFFFFU);
     iface.step = nanos ? 1 : kNanosPerMicro;
     iface.offset = 20;
+    iface.accepted = accepts(iface.link_type);
     interfaces.push_back(iface);
     section = 0;
   }
@@ -333,11 +335,15 @@ struct PcapReader::Impl {
           }
         });
     iface.step = step_of(iface.tsresol);
+    iface.accepted = accepts(iface.link_type);
     if ((iface.tsresol & 0x80U) == 0 && iface.tsresol <= 9 && iface.tsoffset == 0) {
       iface.ns_per_tick = static_cast<std::uint64_t>(iface.step);
     }
     interfaces.push_back(std::move(iface));
   }
+
+  static_assert(sizeof(CapturePacket) == 120,
+                "new CapturePacket field: set it in read_packet(), which sets each field");
 
   // EPB (type 6) and the obsolete Packet Block (type 2) share their layout except that
   // the latter splits the interface field into interface (u16) and drop count (u16).
@@ -392,7 +398,8 @@ struct PcapReader::Impl {
                         flags = load_u32(value, 0, order);
                       }
                     });
-    out = CapturePacket{};
+    // Every field named, so none keeps the previous packet's value; no reset of the whole
+    // struct before (a store per field more at every packet).
     out.link_type = iface.link_type;
     out.interface_id = id;
     out.section = static_cast<std::uint32_t>(section);

@@ -40,7 +40,7 @@ TEST(KeyCache, ClearForgetsEveryKey) {
   KeyCache<int, 16> cache;
   for (std::uint64_t key = 0; key < 100; ++key) cache.put(key, static_cast<int>(key));
   std::size_t found = 0;
-  for (std::uint64_t key = 0; key < 100; ++key) found += cache.find(key) != nullptr ? 1 : 0;
+  for (std::uint64_t key = 0; key < 100; ++key) found += cache.find(key) != nullptr ? 1U : 0U;
   EXPECT_GT(found, 0U);
   EXPECT_LE(found, 16U);
   cache.clear();

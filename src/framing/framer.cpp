@@ -567,7 +567,7 @@ void Framer::classify_span(std::size_t length) {
   emit_noise(length);
 }
 
-void Framer::fill_record(Record& rec, std::size_t from, std::size_t length) const {
+Nanos Framer::fill_record(Record& rec, std::size_t from, std::size_t length) const {
   const ByteInfo& first = info_at(from);
   rec.t_start = first.t_end - char_time_;
   rec.t_end = info_at(from + length - 1).t_end;
@@ -575,8 +575,16 @@ void Framer::fill_record(Record& rec, std::size_t from, std::size_t length) cons
   rec.origin = first.origin;
   rec.size = static_cast<std::uint16_t>(length);
   std::memcpy(rec.storage.data(), bytes_.data() + begin_ + from, length);
-  rec.line_errors = 0;
-  for (std::size_t i = 0; i < length; ++i) rec.line_errors |= info_at(from + i).errors;
+  std::uint8_t errors = first.errors;
+  // kUnknownTime, the least Nanos, never wins against a measured gap.
+  Nanos longest_inner_gap = kUnknownTime;
+  for (std::size_t i = 1; i < length; ++i) {
+    const ByteInfo& b = info_at(from + i);
+    errors |= b.errors;
+    longest_inner_gap = std::max(longest_inner_gap, b.gap_before);
+  }
+  rec.line_errors = errors;
+  return longest_inner_gap;
 }
 
 void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
@@ -584,16 +592,11 @@ void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
   Record& rec = scratch_;
   rec.reset_keeping_storage();
   rec.kind = RecordKind::kFrame;
-  fill_record(rec, 0, length);
+  const Nanos longest_inner_gap = fill_record(rec, 0, length);
   classify_frame(rec, crc_confirmed);
 
   // Timing, only where the timestamps can show it. The longest silence inside the frame
-  // decides both what it teaches and whether it breaks t1.5 (kUnknownTime, the least Nanos,
-  // never wins against a measured one).
-  Nanos longest_inner_gap = kUnknownTime;
-  for (std::size_t i = 1; i < length; ++i) {
-    longest_inner_gap = std::max(longest_inner_gap, info_at(i).gap_before);
-  }
+  // decides both what it teaches and whether it breaks t1.5.
   if (rec.crc_ok && longest_inner_gap > resolution_) learn_from(length);
   const Nanos res = resolution_;
   if (longest_inner_gap != kUnknownTime && longest_inner_gap - res > t1_5_) {

@@ -181,7 +181,9 @@ class Framer {
   void emit_noise(std::size_t length);
   void flush_noise();
   void consume(std::size_t length);
-  void fill_record(Record& rec, std::size_t from, std::size_t length) const;
+  // Fills `rec` with bytes [from, from + length) and their times and line errors; returns
+  // the longest silence between them (kUnknownTime when none is measured).
+  Nanos fill_record(Record& rec, std::size_t from, std::size_t length) const;
 
   [[nodiscard]] std::size_t buffered() const { return end_ - begin_; }
   [[nodiscard]] std::uint8_t byte_at(std::size_t pos) const { return bytes_[begin_ + pos]; }

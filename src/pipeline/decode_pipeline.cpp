@@ -246,7 +246,10 @@ void DecodePipeline::idle(Nanos now) {
     framer->advance(now);
     decided_until = std::min(decided_until, framer->earliest_unread_start(now));
   }
-  const Nanos oldest = impl_->merge.oldest_pending_start();
+  // One port (nearly every capture): the merge holds nothing, and what is still to come is
+  // its framer's, asked here without the merge's call through a std::function (every read).
+  const Nanos oldest = impl_->framers.size() == 1 ? impl_->framers.front()->oldest_pending_start()
+                                                  : impl_->merge.oldest_pending_start();
   if (oldest != kUnknownTime) decided_until = std::min(decided_until, oldest);
   impl_->pairing.advance(decided_until);
 }

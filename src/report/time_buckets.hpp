@@ -43,6 +43,12 @@ class TimeBuckets {
       add(at(from), 1.0);
       return;
     }
+    // Within the bucket at() found last (nearly every frame: buckets last seconds): all of
+    // it there, as the loop below gives, without its division.
+    if (from >= last_start_ && to <= last_end_) {
+      add(buckets_[last_], 1.0);
+      return;
+    }
     if (from < origin_) from = origin_;
     if (to <= from) return;
     while (to > end()) widen();

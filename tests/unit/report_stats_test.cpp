@@ -223,6 +223,33 @@ TEST(TimeBuckets, SpreadSplitsBusyTimeByOverlap) {
   EXPECT_DOUBLE_EQ(tb[2].v, 100.0);
 }
 
+// spread() takes a span inside the bucket at() found last without computing its bucket:
+// what it adds, and where, must be what a TimeBuckets that never looked anything up adds.
+TEST(TimeBuckets, SpreadInsideTheLastBucketFoundAddsWhatAFreshLookGives) {
+  std::mt19937_64 rng(11);
+  TimeBuckets<Sum> remembering(1000, 50, 8);
+  Nanos now = 1000;
+  for (int i = 0; i < 5000; ++i) {
+    now += static_cast<Nanos>(rng() % 30);
+    const Nanos from = now - static_cast<Nanos>(rng() % 40);
+    const Nanos to = from + static_cast<Nanos>(rng() % 60);
+    ++remembering.at(now).n;  // as on_record() does before spreading a frame's busy time
+    TimeBuckets<Sum> reference(1000, remembering.width(), 8);
+    std::vector<std::pair<std::size_t, double>> want;
+    std::vector<std::pair<std::size_t, double>> got;
+    const auto record_into = [](std::vector<std::pair<std::size_t, double>>& into,
+                                const TimeBuckets<Sum>& tb) {
+      return [&into, &tb](Sum& s, double share) {
+        into.emplace_back(static_cast<std::size_t>(&s - &tb[0]), share);
+      };
+    };
+    reference.spread(from, to, record_into(want, reference));
+    remembering.spread(from, to, record_into(got, remembering));
+    ASSERT_EQ(got, want) << "from " << from << " to " << to << " width " << remembering.width();
+  }
+  EXPECT_GT(remembering.width(), 50);  // it widened on the way
+}
+
 // ---- TrafficStats over crafted buses --------------------------------------------------
 
 std::vector<std::uint8_t> read_request(std::uint8_t slave, std::uint16_t addr = 0x0010,

@@ -75,6 +75,49 @@ void Framer::push(const Chunk& chunk) {
   const std::uint64_t origin = chunk.origin;
   const Nanos char_time = char_time_;
   Nanos last_end = last_byte_end_;
+  // Byte i's end and the silence before it, the byte before having ended at last_end.
+  const auto time_byte = [&](std::size_t i, Nanos& end, Nanos& gap) {
+    gap = kUnknownTime;
+    if (starts_measured) {
+      // Measured start of the first byte; any further bytes follow back to back.
+      const Nanos start = first_start + static_cast<Nanos>(i) * char_time;
+      end = start + char_time;
+      if (last_end != kUnknownTime) gap = std::max<Nanos>(0, start - last_end);
+    } else {
+      // The read completed when the last byte had arrived; earlier bytes arrived at the
+      // latest one character time apart, and never before the previous byte ended.
+      end = read_end - static_cast<Nanos>(n - 1 - i) * char_time;
+      if (last_end != kUnknownTime) {
+        end = std::max(end, last_end + char_time);
+        // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
+        if (i == 0) gap = end - char_time - last_end;
+      }
+    }
+  };
+  const auto store_byte = [&](std::size_t i, std::size_t slot, Nanos end, Nanos gap) {
+    settled_.reset(slot);  // a new position, not looked at yet
+    bytes_[end_] = bytes[i];
+    info_[end_] =
+        ByteInfo{end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}};
+    ++end_;
+  };
+  if (n == 1) {
+    // One byte (every read of a per-byte source): nothing to plan, and planning a stretch
+    // cost such reads more than it saved them.
+    if (end_ == kWindow) [[unlikely]] {
+      slide_window();
+    }
+    Nanos end = 0;
+    Nanos gap = kUnknownTime;
+    time_byte(0, end, gap);
+    store_byte(0, (consumed_ + buffered()) % kWindow, end, gap);
+    last_byte_end_ = end;
+    if (buffered() >= kMaxPending) [[unlikely]] {
+      decide(false);
+    }
+    decide(false);
+    return;
+  }
   std::size_t i = 0;
   while (i < n) {
     if (end_ == kWindow) [[unlikely]] {
@@ -90,27 +133,9 @@ void Framer::push(const Chunk& chunk) {
     for (; i < stretch_end; ++i) {
       Nanos end = 0;
       Nanos gap = kUnknownTime;
-      if (starts_measured) {
-        // Measured start of the first byte; any further bytes follow back to back.
-        const Nanos start = first_start + static_cast<Nanos>(i) * char_time;
-        end = start + char_time;
-        if (last_end != kUnknownTime) gap = std::max<Nanos>(0, start - last_end);
-      } else {
-        // The read completed when the last byte had arrived; earlier bytes arrived at the
-        // latest one character time apart, and never before the previous byte ended.
-        end = read_end - static_cast<Nanos>(n - 1 - i) * char_time;
-        if (last_end != kUnknownTime) {
-          end = std::max(end, last_end + char_time);
-          // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
-          if (i == 0) gap = end - char_time - last_end;
-        }
-      }
-      settled_.reset(slot);  // a new position, not looked at yet
+      time_byte(i, end, gap);
+      store_byte(i, slot, end, gap);
       slot = (slot + 1) % kWindow;
-      bytes_[end_] = bytes[i];
-      info_[end_] =
-          ByteInfo{end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}};
-      ++end_;
       last_end = end;
     }
     last_byte_end_ = last_end;

@@ -221,7 +221,10 @@ bool PcapImporter::next(PcapItem& out) {
     const Nanos t = packet_.t;
     const std::uint32_t interface_id = packet_.interface_id;
     const std::uint32_t section = packet_.section;
-    // Each field set (no reset of the whole item first: this runs at every read).
+    // Each field set (no reset of the whole item first: this runs at every read). A field
+    // added to PcapItem or Chunk must be set here too; the sizes checked make one visible.
+    static_assert(sizeof(PcapItem) == 112 && sizeof(Chunk) == 64,
+                  "set every field of a chunk item below");
     out.kind = PcapItem::Kind::kChunk;
     out.chunk.t_first_start = kUnknownTime;
     out.chunk.errors = {};

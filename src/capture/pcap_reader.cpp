@@ -183,6 +183,13 @@ struct PcapReader::Impl {
            std::find(accepted.begin(), accepted.end(), link_type) != accepted.end();
   }
 
+  // Every interface is added here, so that whether its link type is accepted is settled once
+  // for all its packets.
+  void add_interface(Interface iface) {
+    iface.accepted = accepts(iface.link_type);
+    interfaces.push_back(std::move(iface));
+  }
+
   void check_link_type(const Interface& iface, std::uint32_t id, std::uint64_t packet_at) {
     if (iface.accepted) return;
     if (format == CaptureFileFormat::kPcap) {
@@ -226,8 +233,7 @@ struct PcapReader::Impl {
     iface.link_type = static_cast<std::uint16_t>(load_u32(block, 20, order) & 0xFFFFU);
     iface.step = nanos ? 1 : kNanosPerMicro;
     iface.offset = 20;
-    iface.accepted = accepts(iface.link_type);
-    interfaces.push_back(iface);
+    add_interface(std::move(iface));
     section = 0;
   }
 
@@ -335,11 +341,10 @@ struct PcapReader::Impl {
           }
         });
     iface.step = step_of(iface.tsresol);
-    iface.accepted = accepts(iface.link_type);
     if ((iface.tsresol & 0x80U) == 0 && iface.tsresol <= 9 && iface.tsoffset == 0) {
       iface.ns_per_tick = static_cast<std::uint64_t>(iface.step);
     }
-    interfaces.push_back(std::move(iface));
+    add_interface(std::move(iface));
   }
 
   static_assert(sizeof(CapturePacket) == 120,

@@ -25,14 +25,12 @@ struct DecodePipeline::Impl {
   Impl(const PipelineOptions& opts, RecordSink& out)
       : own_tracker(std::in_place, TrackerConfig{opts.response_timeout}, out),
         pairing(*own_tracker),
-        merge(pairing, [this](std::size_t port) { return framers[port]->oldest_pending_start(); }),
+        merge(pairing, framers),
         options(opts) {
     add_port();
   }
   Impl(const PipelineOptions& opts, PairingInput& next)
-      : pairing(next),
-        merge(pairing, [this](std::size_t port) { return framers[port]->oldest_pending_start(); }),
-        options(opts) {
+      : pairing(next), merge(pairing, framers), options(opts) {
     add_port();
   }
 
@@ -54,10 +52,12 @@ struct DecodePipeline::Impl {
 
   std::optional<TransactionTracker> own_tracker;  // absent when pairing is handed on
   PairingInput& pairing;
-  PortMerge merge;
-  PipelineOptions options;
+  // One framer per port, each writing to the merge through its output; the merge asks
+  // them what they still hold.
   std::vector<std::unique_ptr<PortOutput>> outputs;
   std::vector<std::unique_ptr<Framer>> framers;
+  PortMerge merge;
+  PipelineOptions options;
   bool started = false;
   Record imported;
   Record& imported_record(RecordKind kind, std::span<const std::uint8_t> bytes, Nanos t_start,
@@ -246,10 +246,7 @@ void DecodePipeline::idle(Nanos now) {
     framer->advance(now);
     decided_until = std::min(decided_until, framer->earliest_unread_start(now));
   }
-  // One port (nearly every capture): the merge holds nothing, and what is still to come is
-  // its framer's, asked here without the merge's call through a std::function (every read).
-  const Nanos oldest = impl_->framers.size() == 1 ? impl_->framers.front()->oldest_pending_start()
-                                                  : impl_->merge.oldest_pending_start();
+  const Nanos oldest = impl_->merge.oldest_pending_start();
   if (oldest != kUnknownTime) decided_until = std::min(decided_until, oldest);
   impl_->pairing.advance(decided_until);
 }

@@ -4,8 +4,8 @@
 
 namespace rtu {
 
-PortMerge::PortMerge(RecordSink& out, PendingStart pending_start)
-    : out_(out), pending_start_(std::move(pending_start)), held_(1) {}
+PortMerge::PortMerge(RecordSink& out, const std::vector<std::unique_ptr<Framer>>& framers)
+    : out_(out), framers_(framers), held_(1) {}
 
 void PortMerge::set_port_count(std::size_t count) {
   if (count > held_.size()) held_.resize(count);
@@ -44,7 +44,7 @@ void PortMerge::drain_held() {
     const Nanos t = held_[best].front().t_start;
     for (std::size_t p = 0; p < held_.size(); ++p) {
       if (p == best || !held_[p].empty()) continue;
-      const Nanos pending = pending_start_(p);
+      const Nanos pending = framers_[p]->oldest_pending_start();
       if (pending != kUnknownTime && pending < t) return;
     }
     pass(held_[best].front());
@@ -68,7 +68,7 @@ Nanos PortMerge::oldest_held_or_pending_start() const {
   };
   for (std::size_t p = 0; p < held_.size(); ++p) {
     if (!held_[p].empty()) take(held_[p].front().t_start);
-    take(pending_start_(p));
+    take(framers_[p]->oldest_pending_start());
   }
   return oldest;
 }

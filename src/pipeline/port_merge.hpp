@@ -13,20 +13,19 @@
 // Records are numbered here (Record::seq), in the order they leave.
 #include <cstdint>
 #include <deque>
-#include <functional>
+#include <memory>
 #include <vector>
 
+#include "framing/framer.hpp"
 #include "framing/record.hpp"
 
 namespace rtu {
 
 class PortMerge {
  public:
-  // `pending_start(port)`: start of the oldest byte that port's framer still holds, or
-  // kUnknownTime.
-  using PendingStart = std::function<Nanos(std::size_t port)>;
-
-  PortMerge(RecordSink& out, PendingStart pending_start);
+  // `framers[port]` is port's framer: what it still holds could precede a held record.
+  // Asked directly (inline, at every read), not through a callback.
+  PortMerge(RecordSink& out, const std::vector<std::unique_ptr<Framer>>& framers);
 
   // Called by port `port`'s framer for each record it emits.
   void on_record(std::size_t port, Record& record);
@@ -43,7 +42,7 @@ class PortMerge {
   void flush();
   // Start of the oldest record held or still to come from a framer; kUnknownTime if none.
   [[nodiscard]] Nanos oldest_pending_start() const {
-    return held_.size() == 1 ? pending_start_(0) : oldest_held_or_pending_start();
+    return held_.size() == 1 ? framers_[0]->oldest_pending_start() : oldest_held_or_pending_start();
   }
 
  private:
@@ -54,7 +53,7 @@ class PortMerge {
   void pass(Record& record);
 
   RecordSink& out_;
-  PendingStart pending_start_;
+  const std::vector<std::unique_ptr<Framer>>& framers_;
   std::vector<std::deque<Record>> held_;
   std::uint64_t next_seq_ = 0;
 };

@@ -2,60 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "core/short_copy.hpp"
 
 namespace rtu {
-
-void JsonWriter::separate() {
-  if (after_key_) {
-    after_key_ = false;
-    return;
-  }
-  if (depth_ > 0) {
-    const std::uint64_t bit = std::uint64_t{1} << static_cast<unsigned>(depth_ - 1);
-    if ((has_items_ & bit) != 0) out_.push_back(',');
-    has_items_ |= bit;
-  }
-}
-
-void JsonWriter::begin_object() {
-  separate();
-  out_.push_back('{');
-  ++depth_;
-  has_items_ &= ~(std::uint64_t{1} << static_cast<unsigned>(depth_ - 1));
-}
-
-void JsonWriter::end_object() {
-  --depth_;
-  out_.push_back('}');
-}
-
-void JsonWriter::begin_array() {
-  separate();
-  out_.push_back('[');
-  ++depth_;
-  has_items_ &= ~(std::uint64_t{1} << static_cast<unsigned>(depth_ - 1));
-}
-
-void JsonWriter::end_array() {
-  --depth_;
-  out_.push_back(']');
-}
-
-void JsonWriter::key(std::string_view name) {
-  separate();
-  const std::size_t at = out_.size();
-  out_.resize(at + name.size() + 3);
-  char* p = out_.data() + at;
-  *p++ = '"';
-  copy_short(p, name.data(), name.size());
-  p += name.size();
-  *p++ = '"';
-  *p = ':';
-  after_key_ = true;
-}
 
 namespace {
 
@@ -63,16 +15,34 @@ bool needs_escape(char c) {
   return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20;
 }
 
-// Appends `text` with one size check and one copy: fmt's append() loops in pieces and is
-// not inlined, which costs more than the copy for the short keys and values of a record.
-void put(fmt::memory_buffer& out, std::string_view text) {
-  const std::size_t at = out.size();
-  out.resize(at + text.size());
-  copy_short(out.data() + at, text.data(), text.size());
+constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
+constexpr std::uint64_t kHighBits = 0x8080808080808080ULL;
+
+// Whether any of the eight bytes of `word` is zero. A borrow can flag only a byte above a
+// zero one, so the answer for the word is exact.
+constexpr bool has_zero_byte(std::uint64_t word) {
+  return ((word - kOnes) & ~word & kHighBits) != 0;
 }
 
-void append_integer(fmt::memory_buffer& out, const fmt::format_int& digits) {
-  put(out, std::string_view(digits.data(), digits.size()));
+// Whether any byte of `word` is below 0x20: the same test with 0x20 for 1 (a byte of 0x80
+// or more, UTF-8, keeps its top bit out of the answer through its own complement).
+constexpr bool has_control_byte(std::uint64_t word) {
+  return ((word - 0x20 * kOnes) & ~word & kHighBits) != 0;
+}
+
+// Whether `text` holds a character that JSON escapes; eight at a time (names of functions,
+// roles, points and units: every record has several).
+bool any_needs_escape(std::string_view text) {
+  std::size_t i = 0;
+  for (; i + 8 <= text.size(); i += 8) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, text.data() + i, sizeof word);
+    if (has_zero_byte(word ^ ('"' * kOnes)) || has_zero_byte(word ^ ('\\' * kOnes)) ||
+        has_control_byte(word)) {
+      return true;
+    }
+  }
+  return std::any_of(text.begin() + static_cast<std::ptrdiff_t>(i), text.end(), needs_escape);
 }
 
 }  // namespace
@@ -81,8 +51,8 @@ void JsonWriter::value(std::string_view text) {
   separate();
   out_.push_back('"');
   // Names and units rarely hold anything to escape: those are copied whole.
-  if (std::none_of(text.begin(), text.end(), needs_escape)) {
-    put(out_, text);
+  if (!any_needs_escape(text)) {
+    put(text);
     out_.push_back('"');
     return;
   }
@@ -104,21 +74,6 @@ void JsonWriter::value(std::string_view text) {
   out_.push_back('"');
 }
 
-void JsonWriter::value(bool b) {
-  separate();
-  put(out_, b ? std::string_view("true") : std::string_view("false"));
-}
-
-void JsonWriter::value(std::int64_t n) {
-  separate();
-  append_integer(out_, fmt::format_int(n));
-}
-
-void JsonWriter::value(std::uint64_t n) {
-  separate();
-  append_integer(out_, fmt::format_int(n));
-}
-
 void JsonWriter::value_fixed(double x, int decimals) {
   if (!std::isfinite(x)) {
     null();
@@ -135,16 +90,6 @@ void JsonWriter::value_double(double x) {
   }
   separate();
   fmt::format_to(fmt::appender(out_), "{}", x);
-}
-
-void JsonWriter::null() {
-  separate();
-  put(out_, "null");
-}
-
-void JsonWriter::value_raw(std::string_view json_text) {
-  separate();
-  put(out_, json_text);
 }
 
 void JsonWriter::hex(std::span<const std::uint8_t> bytes) {

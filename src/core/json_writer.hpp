@@ -8,31 +8,50 @@
 #include <span>
 #include <string_view>
 
+#include "core/short_copy.hpp"
+
 namespace rtu {
 
 class JsonWriter {
  public:
   explicit JsonWriter(fmt::memory_buffer& out) : out_(out) {}
 
-  void begin_object();
-  void end_object();
-  void begin_array();
-  void end_array();
+  // What every field of every record goes through is defined inline below: as calls they
+  // cost more than the few bytes each writes (a JSONL record is some 20 fields).
+  void begin_object() { open('{'); }
+  void end_object() { close('}'); }
+  void begin_array() { open('['); }
+  void end_array() { close(']'); }
   void key(std::string_view name);  // next value belongs to this key
 
   void value(std::string_view text);
   void value(const char* text) { value(std::string_view(text)); }
-  void value(bool b);
-  void value(std::int64_t n);
-  void value(std::uint64_t n);
+  void value(bool b) {
+    separate();
+    put(b ? std::string_view("true") : std::string_view("false"));
+  }
+  void value(std::int64_t n) {
+    separate();
+    put(fmt::format_int(n));
+  }
+  void value(std::uint64_t n) {
+    separate();
+    put(fmt::format_int(n));
+  }
   void value(int n) { value(static_cast<std::int64_t>(n)); }
   void value(unsigned n) { value(static_cast<std::uint64_t>(n)); }
   // Fixed-point decimal with `decimals` digits after the point (no exponent form).
   void value_fixed(double x, int decimals);
   void value_double(double x);  // shortest round-trip form
-  void null();
+  void null() {
+    separate();
+    put("null");
+  }
   // A value already rendered as JSON (e.g. an exact decimal); written as is.
-  void value_raw(std::string_view json_text);
+  void value_raw(std::string_view json_text) {
+    separate();
+    put(json_text);
+  }
   // For a value rendered straight into the output (e.g. an exact decimal): the buffer to
   // append its JSON text to, once the separator before it is written. Saves a copy on
   // values every record has.
@@ -52,12 +71,60 @@ class JsonWriter {
   }
 
  private:
-  void separate();
+  // The comma before a value, unless it follows its key or opens its object or array.
+  void separate() {
+    if (after_key_) {
+      after_key_ = false;
+      return;
+    }
+    if (depth_ > 0) {
+      const std::uint64_t bit = std::uint64_t{1} << static_cast<unsigned>(depth_ - 1);
+      if ((has_items_ & bit) != 0) out_.push_back(',');
+      has_items_ |= bit;
+    }
+  }
+  void open(char bracket) {
+    separate();
+    out_.push_back(bracket);
+    ++depth_;
+    has_items_ &= ~(std::uint64_t{1} << static_cast<unsigned>(depth_ - 1));
+  }
+  void close(char bracket) {
+    --depth_;
+    out_.push_back(bracket);
+  }
+  // Appends `text` with one size check and one copy: fmt's append() loops in pieces and is
+  // not inlined, which costs more than the copy for the short keys and values of a record.
+  void put(std::string_view text) {
+    const std::size_t at = out_.size();
+    out_.resize(at + text.size());
+    copy_short(out_.data() + at, text.data(), text.size());
+  }
+  // An integer's digits: at most 20 and a sign.
+  void put(const fmt::format_int& digits) {
+    const std::size_t at = out_.size();
+    out_.resize(at + digits.size());
+    copy_at_most_32(out_.data() + at, digits.data(), digits.size());
+  }
+
   fmt::memory_buffer& out_;
   // One bit per nesting level: whether a value was already written at that level.
   std::uint64_t has_items_ = 0;
   int depth_ = 0;
   bool after_key_ = false;
 };
+
+inline void JsonWriter::key(std::string_view name) {
+  separate();
+  const std::size_t at = out_.size();
+  out_.resize(at + name.size() + 3);
+  char* p = out_.data() + at;
+  *p++ = '"';
+  copy_short(p, name.data(), name.size());
+  p += name.size();
+  *p++ = '"';
+  *p = ':';
+  after_key_ = true;
+}
 
 }  // namespace rtu

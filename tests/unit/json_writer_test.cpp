@@ -46,5 +46,58 @@ TEST(JsonWriter, BigEndianWordArrayHoldsEveryValue) {
   EXPECT_EQ(written(bytes), expected);
 }
 
+// The escapes JSON requires, character by character, as RFC 8259 states them.
+std::string escaped_by_the_book(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"') {
+      out += "\\\"";
+    } else if (c == '\\') {
+      out += "\\\\";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (u < 0x20) {
+      out += fmt::format("\\u{:04x}", u);
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string written_value(const std::string& text) {
+  fmt::memory_buffer out;
+  JsonWriter json(out);
+  json.value(std::string_view(text));
+  return fmt::to_string(out);
+}
+
+// Strings are checked for what to escape eight characters at a time: every character that
+// needs it, and the neighbours of those that do not (0x1F/0x20, '!' and '#' beside '"', '['
+// and ']' beside '\\', bytes of UTF-8), at every position of strings up to three words
+// long, among plain letters and among bytes that borrow or carry in the word arithmetic.
+TEST(JsonWriter, StringValuesAreEscapedWhereverTheCharacterFalls) {
+  const std::string specials = std::string("\"\\\n\r\t") + '\0' + '\x01' + '\x1F';
+  const std::string neighbours = std::string(" !#[]~\x7F") + '\x80' + '\xC3' + '\xA9' + '\xFF';
+  for (const char filler : {'a', '\x20', '\xFF', '\x80'}) {
+    for (std::size_t length = 1; length <= 24; ++length) {
+      for (std::size_t at = 0; at < length; ++at) {
+        for (const char c : specials + neighbours) {
+          std::string text(length, filler);
+          text[at] = c;
+          ASSERT_EQ(written_value(text), escaped_by_the_book(text))
+              << "length " << length << ", character 0x" << std::hex
+              << unsigned{static_cast<unsigned char>(c)} << " at " << std::dec << at;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rtu

@@ -18,12 +18,14 @@
 #include "capture/open_capture.hpp"
 #include "core/crc16.hpp"
 #include "core/json_writer.hpp"
+#include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "dissect/device_table.hpp"
 #include "framing/framer.hpp"
 #include "modbus/pdu.hpp"
 #include "pairing/transaction_tracker.hpp"
 #include "pipeline/decode_pipeline.hpp"
+#include "report/jsonl_writer.hpp"
 #include "report/log_histogram.hpp"
 #include "report/traffic_stats.hpp"
 
@@ -250,6 +252,19 @@ void BM_StageJsonWriter(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
 
+// Whole JSONL records as `decode --format jsonl` writes them (to /dev/null): times, hex,
+// function names, the PDU's fields and the register values.
+void BM_StageJsonlRecord(benchmark::State& state) {
+  std::vector<Record> records = paired_polling(2000);
+  OutputStream out("/dev/null");
+  JsonlWriter writer(out);
+  for (auto _ : state) {
+    for (Record& r : records) writer.on_record(r);
+  }
+  writer.on_finish();
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(records.size()));
+}
+
 BENCHMARK(BM_StageDecimalSeconds);
 BENCHMARK(BM_StageCrc16)->Arg(8)->Arg(256);
 BENCHMARK(BM_StageTextHexReader)->Unit(benchmark::kMillisecond);
@@ -260,6 +275,7 @@ BENCHMARK(BM_StageDecodePdu);
 BENCHMARK(BM_StageReportPass)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageLogHistogram);
 BENCHMARK(BM_StageJsonWriter);
+BENCHMARK(BM_StageJsonlRecord);
 
 }  // namespace
 }  // namespace rtu

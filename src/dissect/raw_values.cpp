@@ -21,13 +21,12 @@ bool carries_values(const Record& frame) {
 }
 
 std::string_view RawValues::name_of(std::uint64_t key, std::string_view table, std::uint32_t addr) {
-  if (const std::string_view* recent = recent_names_.find(key)) return *recent;
-  auto it = names_.find(key);
-  if (it == names_.end()) it = names_.emplace(key, fmt::format("{} 0x{:04X}", table, addr)).first;
-  // Names handed out earlier in this call stay valid: unordered_map never moves its nodes,
-  // and the cache is only emptied before a record's first value.
-  recent_names_.put(key, it->second);
-  return it->second;
+  if (const std::string_view* known = names_.find(key)) return *known;
+  // Names handed out earlier in this call stay valid: a deque's elements never move, and
+  // the names are only forgotten before a record's first value.
+  const std::string_view name = name_texts_.emplace_back(fmt::format("{} 0x{:04X}", table, addr));
+  names_.put(key, name);
+  return name;
 }
 
 void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
@@ -37,7 +36,7 @@ void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
   if (!access.issues.empty()) return;
   if (names_.size() > kMaxNames) {
     names_.clear();
-    recent_names_.clear();
+    name_texts_.clear();
   }
   auto add = [&](DataTable table, std::uint32_t addr, double value) {
     PointValue v;

@@ -6,11 +6,12 @@
 // 15, 16, 23). Only frames that carry_values() and whose byte counts fit their quantities
 // exactly give values: a value is reported only when the bytes are trustworthy.
 #include <cstdint>
+#include <deque>
 #include <string>
-#include <unordered_map>
+#include <string_view>
 #include <vector>
 
-#include "core/key_cache.hpp"
+#include "core/flat_index.hpp"
 #include "dissect/point_value.hpp"
 #include "framing/record.hpp"
 
@@ -32,8 +33,8 @@ class RawValues {
   // and again. Bounded: past kMaxNames the names are made anew.
   std::string_view name_of(std::uint64_t key, std::string_view table, std::uint32_t addr);
   static constexpr std::size_t kMaxNames = 16384;
-  std::unordered_map<std::uint64_t, std::string> names_;
-  KeyCache<std::string_view, 512> recent_names_;  // in front of names_, emptied with it
+  std::deque<std::string> name_texts_;  // a deque: its strings never move as it grows
+  FlatIndex<std::string_view> names_;   // key → its text in name_texts_
 };
 
 }  // namespace rtu::dissect

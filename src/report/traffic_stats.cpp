@@ -161,11 +161,8 @@ bool is_glitch(const Record& r) {
 
 std::map<RequestKind, RequestKindStats>::iterator TrafficStats::find_kind(const RequestKind& kind) {
   const std::uint64_t key = packed(kind);
-  if (const auto* recent = recent_kinds_.find(key)) return *recent;
-  const auto hit = kind_index_.find(key);
-  if (hit == kind_index_.end()) return kinds_.end();
-  recent_kinds_.put(key, hit->second);
-  return hit->second;
+  if (const auto* hit = kind_index_.find(key)) return *hit;
+  return kinds_.end();
 }
 
 std::map<RequestKind, RequestKindStats>::iterator TrafficStats::kind_of_answered(
@@ -303,7 +300,7 @@ void TrafficStats::count_request(const Record& r) {
       return;
     }
     it = kinds_.emplace(kind, RequestKindStats{}).first;
-    kind_index_.emplace(packed(kind), it);
+    kind_index_.put(packed(kind), it);
     it->second.first_t = r.t_start;
   } else {
     it->second.period.add(r.t_start - it->second.last_t);
@@ -494,13 +491,8 @@ void TrafficStats::add_point(const dissect::PointValue& sample) {
   const std::uint64_t index_key =
       sample.key == 0 ? 0 : sample.key ^ (std::uint64_t{sample.slave} << 48U);
   if (index_key != 0) {
-    if (const PointEntry* recent = recent_points_.find(index_key)) {
-      update_point((*recent)->second, sample);
-      return;
-    }
-    if (auto hit = point_index_.find(index_key); hit != point_index_.end()) {
-      recent_points_.put(index_key, hit->second);
-      update_point(hit->second->second, sample);
+    if (const PointEntry* hit = point_index_.find(index_key)) {
+      update_point((*hit)->second, sample);
       return;
     }
   }
@@ -522,7 +514,7 @@ void TrafficStats::add_point(const dissect::PointValue& sample) {
                        TimeBuckets<PointBucket>(totals_.first_t, kFirstBucketWidth, kPointBuckets)};
     it = points_.emplace(std::move(key), std::move(series)).first;
   }
-  if (index_key != 0) point_index_.emplace(index_key, it);
+  if (index_key != 0) point_index_.put(index_key, it);
   update_point(it->second, sample);
 }
 

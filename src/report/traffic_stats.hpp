@@ -17,9 +17,8 @@
 #include <optional>
 #include <string>
 #include <tuple>
-#include <unordered_map>
 
-#include "core/key_cache.hpp"
+#include "core/flat_index.hpp"
 #include "dissect/device_table.hpp"
 #include "dissect/point_value.hpp"
 #include "framing/capture_info.hpp"
@@ -297,8 +296,7 @@ class TrafficStats : public RecordSink {
   std::uint64_t kinds_overflow_ = 0;
   // RequestKind packed into 64 bits → its entry in kinds_: found by hashing, not by a walk
   // down the tree at every request and response. std::map entries never move.
-  std::unordered_map<std::uint64_t, std::map<RequestKind, RequestKindStats>::iterator> kind_index_;
-  KeyCache<std::map<RequestKind, RequestKindStats>::iterator, 256> recent_kinds_;
+  FlatIndex<std::map<RequestKind, RequestKindStats>::iterator> kind_index_;
   std::map<RequestKind, RequestKindStats>::iterator find_kind(const RequestKind& kind);
   // The kind entry of the request counted last, found again for its response without
   // decoding the request a second time (one master asks one question at a time, so the
@@ -318,8 +316,7 @@ class TrafficStats : public RecordSink {
   // (slave, PointValue::key) → its series in points_, so a sample finds its series without
   // comparing names. std::map entries never move.
   using PointEntry = std::map<std::pair<std::uint8_t, std::string>, PointSeries>::iterator;
-  std::unordered_map<std::uint64_t, PointEntry> point_index_;
-  KeyCache<PointEntry, 512> recent_points_;  // in front of point_index_
+  FlatIndex<PointEntry> point_index_;
   LogHistogram master_turnaround_;
   RequestEchoes echoes_;
 

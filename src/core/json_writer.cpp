@@ -1,6 +1,7 @@
 #include "core/json_writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -92,17 +93,31 @@ void JsonWriter::value_double(double x) {
   fmt::format_to(fmt::appender(out_), "{}", x);
 }
 
+namespace {
+
+// "00" "01" ... "ff": a byte's two hex digits in one copy.
+constexpr std::array<char, 512> kHexPairs = [] {
+  constexpr std::string_view kDigits = "0123456789abcdef";
+  std::array<char, 512> pairs{};
+  for (std::size_t b = 0; b < 256; ++b) {
+    pairs[2 * b] = kDigits[b >> 4U];
+    pairs[2 * b + 1] = kDigits[b & 0xFU];
+  }
+  return pairs;
+}();
+
+}  // namespace
+
 void JsonWriter::hex(std::span<const std::uint8_t> bytes) {
   separate();
-  constexpr std::string_view kDigits = "0123456789abcdef";
   // Grown once, then written in place.
   const std::size_t at = out_.size();
   out_.resize(at + 2 + 2 * bytes.size());
   char* p = out_.data() + at;
   *p++ = '"';
   for (const std::uint8_t b : bytes) {
-    *p++ = kDigits[b >> 4U];
-    *p++ = kDigits[b & 0xFU];
+    std::memcpy(p, &kHexPairs[2 * std::size_t{b}], 2);
+    p += 2;
   }
   *p = '"';
 }

@@ -46,6 +46,28 @@ TEST(JsonWriter, BigEndianWordArrayHoldsEveryValue) {
   EXPECT_EQ(written(bytes), expected);
 }
 
+// Bytes as quoted lowercase hex, two digits each: every byte value, in a value of its own
+// after a key, with an empty span as "".
+TEST(JsonWriter, HexHoldsEveryByteValue) {
+  std::vector<std::uint8_t> bytes;
+  std::string expected = R"({"a":1,"hex":")";
+  for (unsigned v = 0; v <= 0xFFU; ++v) {
+    bytes.push_back(static_cast<std::uint8_t>(v));
+    expected += fmt::format("{:02x}", v);
+  }
+  expected += R"(","empty":""})";
+  fmt::memory_buffer out;
+  JsonWriter json(out);
+  json.begin_object();
+  json.field("a", 1U);
+  json.key("hex");
+  json.hex(bytes);
+  json.key("empty");
+  json.hex({});
+  json.end_object();
+  EXPECT_EQ(fmt::to_string(out), expected);
+}
+
 // The escapes JSON requires, character by character, as RFC 8259 states them.
 std::string escaped_by_the_book(const std::string& text) {
   std::string out = "\"";

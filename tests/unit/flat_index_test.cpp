@@ -33,7 +33,9 @@ TEST(FlatIndex, FindsWhatAnUnorderedMapFinds) {
     const std::uint64_t* found = index.find(probe);
     const auto expected = truth.find(probe);
     ASSERT_EQ(found != nullptr, expected != truth.end()) << "key " << probe;
-    if (found != nullptr) ASSERT_EQ(*found, expected->second) << "key " << probe;
+    if (found != nullptr) {
+      ASSERT_EQ(*found, expected->second) << "key " << probe;
+    }
   }
   EXPECT_EQ(index.size(), truth.size());
   EXPECT_GT(truth.size(), 4000U);  // grown well past its first array

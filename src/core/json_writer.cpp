@@ -1,11 +1,11 @@
 #include "core/json_writer.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 
+#include "core/digit_pairs.hpp"
 #include "core/short_copy.hpp"
 
 namespace rtu {
@@ -93,30 +93,13 @@ void JsonWriter::value_double(double x) {
   fmt::format_to(fmt::appender(out_), "{}", x);
 }
 
-namespace {
-
-// "00" "01" ... "ff": a byte's two hex digits in one copy.
-constexpr std::array<char, 512> kHexPairs = [] {
-  constexpr std::string_view kDigits = "0123456789abcdef";
-  std::array<char, 512> pairs{};
-  for (std::size_t b = 0; b < 256; ++b) {
-    pairs[2 * b] = kDigits[b >> 4U];
-    pairs[2 * b + 1] = kDigits[b & 0xFU];
-  }
-  return pairs;
-}();
-
-}  // namespace
-
 void JsonWriter::hex(std::span<const std::uint8_t> bytes) {
   separate();
   // Grown once, then written in place.
-  const std::size_t at = out_.size();
-  out_.resize(at + 2 + 2 * bytes.size());
-  char* p = out_.data() + at;
+  char* p = grow(2 + 2 * bytes.size());
   *p++ = '"';
   for (const std::uint8_t b : bytes) {
-    std::memcpy(p, &kHexPairs[2 * std::size_t{b}], 2);
+    std::memcpy(p, hex_pair(b), 2);
     p += 2;
   }
   *p = '"';
@@ -126,9 +109,7 @@ void JsonWriter::u16_be_array(std::span<const std::uint8_t> bytes) {
   separate();
   const std::size_t count = bytes.size() / 2;
   constexpr std::size_t kMaxChars = 6;  // "65535,"
-  const std::size_t at = out_.size();
-  out_.resize(at + 2 + count * kMaxChars);
-  char* p = out_.data() + at;
+  char* p = grow(2 + count * kMaxChars);
   *p++ = '[';
   for (std::size_t i = 0; i < count; ++i) {
     if (i > 0) *p++ = ',';

@@ -93,18 +93,19 @@ class JsonWriter {
     --depth_;
     out_.push_back(bracket);
   }
-  // Appends `text` with one size check and one copy: fmt's append() loops in pieces and is
-  // not inlined, which costs more than the copy for the short keys and values of a record.
-  void put(std::string_view text) {
+  // Lengthens the output by `n` characters and returns where they go: one size check for
+  // a whole value, written in place. fmt's append() loops in pieces and is not inlined,
+  // which costs more than the copy for the short keys and values of a record.
+  char* grow(std::size_t n) {
     const std::size_t at = out_.size();
-    out_.resize(at + text.size());
-    copy_short(out_.data() + at, text.data(), text.size());
+    out_.resize(at + n);
+    return out_.data() + at;
   }
-  // An integer's digits: at most 20 and a sign.
+  void put(std::string_view text) { copy_short(grow(text.size()), text.data(), text.size()); }
+  // An integer's digits (at most 20 and a sign): the bounded copy lets the compiler see that
+  // nothing past format_int's buffer is read.
   void put(const fmt::format_int& digits) {
-    const std::size_t at = out_.size();
-    out_.resize(at + digits.size());
-    copy_at_most_32(out_.data() + at, digits.data(), digits.size());
+    copy_at_most_32(grow(digits.size()), digits.data(), digits.size());
   }
 
   fmt::memory_buffer& out_;
@@ -116,9 +117,7 @@ class JsonWriter {
 
 inline void JsonWriter::key(std::string_view name) {
   separate();
-  const std::size_t at = out_.size();
-  out_.resize(at + name.size() + 3);
-  char* p = out_.data() + at;
+  char* p = grow(name.size() + 3);
   *p++ = '"';
   copy_short(p, name.data(), name.size());
   p += name.size();

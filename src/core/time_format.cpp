@@ -5,18 +5,10 @@
 #include <cstring>
 #include <iterator>
 
+#include "core/digit_pairs.hpp"
+
 namespace rtu {
 namespace {
-
-// "00" "01" ... "99": two digits of a number in one copy.
-constexpr std::array<char, 200> kDigitPairs = [] {
-  std::array<char, 200> pairs{};
-  for (std::size_t n = 0; n < 100; ++n) {
-    pairs[2 * n] = static_cast<char>('0' + n / 10);
-    pairs[2 * n + 1] = static_cast<char>('0' + n % 10);
-  }
-  return pairs;
-}();
 
 constexpr std::array<Nanos, 10> kPow10 = {1,      10,      100,      1000,      10000,
                                           100000, 1000000, 10000000, 100000000, 1000000000};
@@ -52,7 +44,7 @@ void append_fixed(fmt::memory_buffer& out, Nanos value, Nanos unit, int decimals
   auto rest_digits = static_cast<std::uint64_t>(frac);  // < 10^decimals
   int i = decimals;
   for (; i >= 2; i -= 2) {
-    std::memcpy(p + i - 1, &kDigitPairs[2 * (rest_digits % 100)], 2);
+    std::memcpy(p + i - 1, decimal_pair(rest_digits % 100), 2);
     rest_digits /= 100;
   }
   if (i == 1) p[1] = static_cast<char>('0' + rest_digits);

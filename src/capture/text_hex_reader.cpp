@@ -132,7 +132,18 @@ bool TextHexReader::read_plain_data_line() {
   if (bytes_.size() < text.size() / 2) bytes_.resize(text.size() / 2);
   std::uint8_t* const bytes = bytes_.data();
   std::size_t count = 0;
-  for (;;) {
+  // The shape every tool writes, " hh" after " hh" up to the '\n', without the general
+  // loop's checks for other blanks and line ends; whatever else comes is left to that loop,
+  // from where this one stopped (it consumes only what that loop would have).
+  while (end - p >= 4 && p[0] == ' ') {
+    const int high = hex_value(p[1]);
+    const int low = hex_value(p[2]);
+    if ((high | low) < 0) break;
+    bytes[count++] = static_cast<std::uint8_t>((high << 4) | low);
+    p += 3;
+  }
+  // Then the line's end straight away, where it is there.
+  while (p == end || p[0] != '\n') {
     while (p != end && is_blank(*p)) ++p;
     if (p == end) return false;  // the line goes on past the buffer (or the file ends)
     if (p[0] == '\n') break;

@@ -369,6 +369,8 @@ TEST(TextHexReader, LinesReadInPlaceGiveWhatReadingLineByLineGives) {
                                   "1.5",
                                   "1.5#c 01",
                                   "1.5 012",
+                                  "1.5 01 0",
+                                  "1.5 01 0x",
                                   "1.5x 01",
                                   "12345678901 01",
                                   "1.0 01\r\r",

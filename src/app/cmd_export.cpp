@@ -50,8 +50,8 @@ std::optional<PcapExportCounts> export_once(const CaptureOpener& capture,
   // Writing records costs less than framing them: the framing keeps the decoding core,
   // except where every read holds one byte. Parsing such a capture costs as much as framing
   // it, and three threads (parsing, framing, pairing and writing) share the two cores more
-  // evenly than two: 1,000,000 per-byte frames, 0.81 -> 0.64 s wall and 1.44 -> 1.15 s of
-  // CPU (medians of 16 interleaved runs), for 2.7% more instructions (the handover).
+  // evenly than two: 1,000,000 per-byte frames, about 0.8 -> 0.64 s wall and 1.4 -> 1.15 s
+  // of CPU (two sets of interleaved runs), for 2.7% more instructions (the handover).
   replay.frame_ahead = survey.single_byte_reads;
   if (alongside) {
     if (!decode_and_survey(capture, survey, replay, sink)) return std::nullopt;

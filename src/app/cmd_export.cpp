@@ -47,12 +47,9 @@ std::optional<PcapExportCounts> export_once(const CaptureOpener& capture,
   FileOutput& written = *file;
   PcapExportSink sink(std::move(file), options);
   if (options.raw) replay.on_chunk = [&sink](const Chunk& chunk) { sink.on_chunk(chunk); };
-  // Writing records costs less than framing them: the framing keeps the decoding core,
-  // except where every read holds one byte. Parsing such a capture costs as much as framing
-  // it, and three threads (parsing, framing, pairing and writing) share the two cores more
-  // evenly than two: 1,000,000 per-byte frames, about 0.8 -> 0.64 s wall and 1.4 -> 1.15 s
-  // of CPU (two sets of interleaved runs), for 2.7% more instructions (the handover).
-  replay.frame_ahead = survey.single_byte_reads;
+  // Writing records costs less than framing them: the framing keeps the decoding core
+  // (except where reads hold one byte: see ReplayOptions::frame_ahead).
+  replay.frame_ahead = false;
   if (alongside) {
     if (!decode_and_survey(capture, survey, replay, sink)) return std::nullopt;
   } else {

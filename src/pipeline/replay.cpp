@@ -263,18 +263,21 @@ FramingAhead::Setup framing_setup(const CaptureSurvey& survey, const ReplayOptio
 }
 
 // How one decoding pass is laid over the threads. Framing runs on the reading thread
-// (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead) or the
-// pass may end early (options.enough: it then ends at a reader's item, which only a ReadAhead
-// can tell). Where reads hold one byte each, parsing costs as much as framing, and where the
-// caller asks (ReplayOptions::parse_ahead): the reader then runs in a ReadAhead of its own
-// inside the FramingAhead. `alongside` (optional) sees every item on the parsing thread where
-// there is one, else on the thread that frames them.
+// (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead, for
+// reads of more than one byte) or the pass may end early (options.enough: it then ends at a
+// reader's item, which only a ReadAhead can tell). Where reads hold one byte each, parsing costs as
+// much as framing, and where the caller asks (ReplayOptions::parse_ahead): the reader then runs in
+// a ReadAhead of its own inside the FramingAhead. `alongside` (optional) sees every item on the
+// parsing thread where there is one, else on the thread that frames them.
 class DecodingRun {
  public:
   DecodingRun(std::unique_ptr<CaptureReader> reader, const CaptureSurvey& survey,
               const ReplayOptions& options, CaptureConsumer* alongside)
       : survey_(survey), options_(options) {
-    if (!options.frame_ahead || options.enough) {
+    // One-byte reads cost as much to parse as to frame: they are framed ahead on a thread of
+    // their own, as the parsing is (below), whatever the caller's frame_ahead says.
+    const bool frame_ahead = options.frame_ahead || survey.single_byte_reads;
+    if (!frame_ahead || options.enough) {
       parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
       return;
     }

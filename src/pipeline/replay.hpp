@@ -58,9 +58,10 @@ struct ReplayOptions {
   // Which core frames. Framing on the reading thread (FramingAhead) halves the decoding
   // core's work, which pays where the sink's work is at least the framing's (reports,
   // decode). An export's sink does little, so it frames on the decoding core and leaves the
-  // reading core to the reader (ReadAhead), except where reads hold one byte each: parsing
-  // and framing then cost alike, and each gets a thread of its own. The records are the
-  // same either way.
+  // reading core to the reader (ReadAhead). Where reads hold one byte each, parsing and
+  // framing cost alike, and each gets a thread of its own whatever this says (a per-byte
+  // export: about 0.8 -> 0.64 s wall for 1,000,000 frames on two cores). The records are
+  // the same either way.
   bool frame_ahead = true;
   // With frame_ahead: the reader also parses on a thread of its own (a ReadAhead inside the
   // FramingAhead), as it always does where reads hold one byte. Three threads on two cores

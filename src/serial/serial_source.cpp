@@ -116,14 +116,17 @@ void SerialSource::configure() {
     tio.c_iflag |= INPCK | PARMRK;
     tio.c_iflag &= ~static_cast<tcflag_t>(IGNPAR | IGNBRK | BRKINT | ISTRIP | IXON | IXOFF | ICRNL |
                                           INLCR | IGNCR);
-    if (::tcsetattr(fd, TCSANOW, &tio) != 0) {
+    // Input flags belong to the line discipline, which keeps whatever it is given, so a
+    // successful tcsetattr is the answer. A read-back is not: whoever else holds the port
+    // may change it in between (rtuvbus takes PARMRK off a pseudo-terminal at once and
+    // marks errors itself, and a read-back then said "no marks" while marks came).
+    status_.error_marking = ::tcsetattr(fd, TCSANOW, &tio) == 0;
+    if (!status_.error_marking) {
       status_.notes.push_back(fmt::format(
           "{}: cannot enable error marking ({}); bytes with parity or framing errors are "
           "not seen",
           path, std::error_code(errno, std::generic_category()).message()));
     }
-    termios back{};
-    status_.error_marking = ::tcgetattr(fd, &back) == 0 && (back.c_iflag & PARMRK) != 0;
   }
   if (custom) {
     if (const auto err = set_custom_baud(fd, config_.line.baud)) {

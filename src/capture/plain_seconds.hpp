@@ -5,10 +5,10 @@
 #include <array>
 #include <bit>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <string_view>
 
+#include "core/byte_words.hpp"
 #include "core/time.hpp"
 
 namespace rtu {
@@ -18,15 +18,12 @@ inline bool is_digit(char c) {
   return c >= '0' && c <= '9';
 }
 
-inline constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
+using byte_words::kOnes;
 
 // Eight characters at `p` as one word, the first in its lowest byte, each minus '0': a digit's
 // byte holds its value.
 inline std::uint64_t digit_word(const char* p) {
-  std::uint64_t word = 0;
-  std::memcpy(&word, p, sizeof word);
-  if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap64(word);
-  return word - 0x30 * kOnes;
+  return byte_words::load(p) - 0x30 * kOnes;
 }
 
 // How many of digit_word()'s eight characters, from the first, are decimal digits. A byte is
@@ -34,7 +31,7 @@ inline std::uint64_t digit_word(const char* p) {
 // bit is clear). A borrow or carry only reaches the bytes after the first non-digit, which do
 // not count.
 inline unsigned leading_digits(std::uint64_t digits) {
-  const std::uint64_t non_digits = (digits | (digits + 0x76 * kOnes)) & (0x80 * kOnes);
+  const std::uint64_t non_digits = (digits | (digits + 0x76 * kOnes)) & byte_words::kHighBits;
   return non_digits == 0 ? 8U : static_cast<unsigned>(std::countr_zero(non_digits)) / 8U;
 }
 

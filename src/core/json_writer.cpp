@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "core/byte_words.hpp"
 #include "core/digit_pairs.hpp"
 #include "core/short_copy.hpp"
 
@@ -16,30 +17,16 @@ bool needs_escape(char c) {
   return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20;
 }
 
-constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
-constexpr std::uint64_t kHighBits = 0x8080808080808080ULL;
-
-// Whether any of the eight bytes of `word` is zero. A borrow can flag only a byte above a
-// zero one, so the answer for the word is exact.
-constexpr bool has_zero_byte(std::uint64_t word) {
-  return ((word - kOnes) & ~word & kHighBits) != 0;
-}
-
-// Whether any byte of `word` is below 0x20: the same test with 0x20 for 1 (a byte of 0x80
-// or more, UTF-8, keeps its top bit out of the answer through its own complement).
-constexpr bool has_control_byte(std::uint64_t word) {
-  return ((word - 0x20 * kOnes) & ~word & kHighBits) != 0;
-}
-
 // Whether `text` holds a character that JSON escapes; eight at a time (names of functions,
 // roles, points and units: every record has several).
 bool any_needs_escape(std::string_view text) {
   std::size_t i = 0;
   for (; i + 8 <= text.size(); i += 8) {
-    std::uint64_t word = 0;
-    std::memcpy(&word, text.data() + i, sizeof word);
-    if (has_zero_byte(word ^ ('"' * kOnes)) || has_zero_byte(word ^ ('\\' * kOnes)) ||
-        has_control_byte(word)) {
+    const std::uint64_t word = byte_words::load(text.data() + i);
+    // A quote or a backslash is a zero byte once XORed away; a control character is below 0x20.
+    if (byte_words::has_byte_below(word ^ ('"' * byte_words::kOnes), 1) ||
+        byte_words::has_byte_below(word ^ ('\\' * byte_words::kOnes), 1) ||
+        byte_words::has_byte_below(word, 0x20)) {
       return true;
     }
   }

@@ -7,6 +7,7 @@
 
 #include "capture/decimal_time.hpp"
 #include "capture/found_text.hpp"
+#include "core/hex_digits.hpp"
 #include "core/input_error.hpp"
 
 namespace rtu {
@@ -65,13 +66,6 @@ SaleaeLayout classify(const CsvRow& header) {
                                          : SaleaeLayout::kDataTable;
   }
   return SaleaeLayout::kNone;
-}
-
-int hex_value(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  const char l = lower(c);
-  if (l >= 'a' && l <= 'f') return l - 'a' + 10;
-  return -1;
 }
 
 }  // namespace
@@ -162,7 +156,7 @@ std::uint8_t SaleaeReader::parse_byte(std::size_t index) const {
   const std::string_view text = trim(row_.field(index));
   const bool hex_prefix = text.size() > 2 && text[0] == '0' && lower(text[1]) == 'x';
   bool all_hex = hex_prefix;
-  for (std::size_t i = 2; all_hex && i < text.size(); ++i) all_hex = hex_value(text[i]) >= 0;
+  for (std::size_t i = 2; all_hex && i < text.size(); ++i) all_hex = hex_digit_value(text[i]) >= 0;
   if (!all_hex) {
     fail_field(index,
                "a byte in the hex radix like 0x55 (export the analyzer with the hex "
@@ -173,7 +167,7 @@ std::uint8_t SaleaeReader::parse_byte(std::size_t index) const {
     fail_field(index, fmt::format("one byte per row like 0x55, not {} hex digits", digits));
   }
   int value = 0;
-  for (std::size_t i = 2; i < text.size(); ++i) value = value * 16 + hex_value(text[i]);
+  for (std::size_t i = 2; i < text.size(); ++i) value = value * 16 + hex_digit_value(text[i]);
   return static_cast<std::uint8_t>(value);
 }
 

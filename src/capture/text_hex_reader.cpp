@@ -2,13 +2,13 @@
 
 #include <fmt/format.h>
 
-#include <array>
 #include <cstdint>
 #include <utility>
 
 #include "capture/decimal_time.hpp"
 #include "capture/found_text.hpp"
 #include "capture/plain_seconds.hpp"
+#include "core/hex_digits.hpp"
 #include "core/input_error.hpp"
 
 namespace rtu {
@@ -16,24 +16,6 @@ namespace {
 
 bool is_blank(char c) {
   return c == ' ' || c == '\t';
-}
-
-// A digit's value, -1 for any other character: a table, as the branches of a comparison
-// chain are mispredicted on every other digit of real traffic.
-constexpr std::array<std::int8_t, 256> kHexValues = [] {
-  std::array<std::int8_t, 256> t{};
-  t.fill(-1);
-  for (int c = '0'; c <= '9'; ++c)
-    t[static_cast<std::size_t>(c)] = static_cast<std::int8_t>(c - '0');
-  for (int c = 'a'; c <= 'f'; ++c) {
-    t[static_cast<std::size_t>(c)] = static_cast<std::int8_t>(c - 'a' + 10);
-    t[static_cast<std::size_t>(c - 'a' + 'A')] = static_cast<std::int8_t>(c - 'a' + 10);
-  }
-  return t;
-}();
-
-int hex_value(char c) {
-  return kHexValues[static_cast<unsigned char>(c)];
 }
 
 std::size_t skip_blanks(std::string_view line, std::size_t pos) {
@@ -136,10 +118,9 @@ bool TextHexReader::read_plain_data_line() {
   // loop's checks for other blanks and line ends; whatever else comes is left to that loop,
   // from where this one stopped (it consumes only what that loop would have).
   while (end - p >= 4 && p[0] == ' ') {
-    const int high = hex_value(p[1]);
-    const int low = hex_value(p[2]);
-    if ((high | low) < 0) break;
-    bytes[count++] = static_cast<std::uint8_t>((high << 4) | low);
+    const int value = hex_pair_value(p + 1);
+    if (value < 0) break;
+    bytes[count++] = static_cast<std::uint8_t>(value);
     p += 3;
   }
   // Then the line's end straight away, where it is there.
@@ -149,10 +130,9 @@ bool TextHexReader::read_plain_data_line() {
     if (p[0] == '\n') break;
     if (end - p < 2) return false;
     if (p[0] == '\r' && p[1] == '\n') break;  // next() drops the '\r' before a '\n'
-    const int high = hex_value(p[0]);
-    const int low = hex_value(p[1]);
-    if ((high | low) < 0) return false;
-    bytes[count++] = static_cast<std::uint8_t>((high << 4) | low);
+    const int value = hex_pair_value(p);
+    if (value < 0) return false;
+    bytes[count++] = static_cast<std::uint8_t>(value);
     p += 2;
   }
   if (count == 0) return false;
@@ -195,13 +175,12 @@ void TextHexReader::parse_data(std::string_view line, std::size_t start) {
   for (;;) {
     pos = skip_blanks(line, pos);
     if (pos == line.size() || line[pos] == '#') break;
-    const int high = hex_value(line[pos]);
-    const int low = pos + 1 < line.size() ? hex_value(line[pos + 1]) : -1;
-    if (high < 0 || low < 0) {
+    const int value = pos + 1 < line.size() ? hex_pair_value(line.data() + pos) : -1;
+    if (value < 0) {
       fail(pos,
            fmt::format("expected hex byte pair, found {}", found_text(word_at(line, pos, '#'))));
     }
-    bytes_[byte_count_++] = static_cast<std::uint8_t>((high << 4) | low);
+    bytes_[byte_count_++] = static_cast<std::uint8_t>(value);
     pos += 2;
   }
   if (byte_count_ == 0) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/function_codes.hpp"
+#include "core/hex_digits.hpp"
 #include "core/input_error.hpp"
 #include "dissect/sensor_classes.hpp"
 #include "modbus/data_access.hpp"
@@ -71,11 +72,8 @@ std::optional<std::int64_t> parse_int_key(std::string_view s) {
   if (s.empty() || s.size() > 12) return std::nullopt;
   std::int64_t v = 0;
   for (const char c : s) {
-    int d = -1;
-    if (c >= '0' && c <= '9') d = c - '0';
-    if (base == 16 && c >= 'a' && c <= 'f') d = c - 'a' + 10;
-    if (base == 16 && c >= 'A' && c <= 'F') d = c - 'A' + 10;
-    if (d < 0) return std::nullopt;
+    const int d = hex_digit_value(c);
+    if (d < 0 || d >= base) return std::nullopt;
     v = v * base + d;
   }
   return negative ? -v : v;

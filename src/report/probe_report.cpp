@@ -78,8 +78,9 @@ void diagnose(const std::vector<SettingEvidence>& table, ProbeVerdict& v) {
       std::any_of(table.begin(), table.end(), [](const auto& e) { return e.frames > 0; });
   // A swapped pair idles low: every burst ends in an error, at every rate (see
   // SettingEvidence::bursts). Straight lines at wrong settings end only some so. One
-  // setting in ten may still read a swapped pair's bursts clean: where its UART happens
-  // to align on the inverted bits, the last character can end on a valid stop bit.
+  // setting in ten may still read a swapped pair's bursts clean: one whose port delivered
+  // no error marks while it listened (a driver that drops them, or something else on the
+  // port that took PARMRK off), or whose reads arrived so late that a burst looked split.
   std::uint64_t bursts = 0;
   std::uint64_t flagged = 0;
   std::size_t settings_heard = 0;

@@ -186,8 +186,9 @@ TEST(ProbeReport, BurstsEndingInErrorsAtEverySettingAreASwappedPair) {
 }
 
 TEST(ProbeReport, OneSettingInTenReadingASwappedPairCleanStillCallsItSwapped) {
-  // A full probe hears dozens of settings; now and then one of them aligns on the inverted
-  // bits so that its bursts end on a valid stop bit. That one must not hide the pattern.
+  // A full probe hears dozens of settings; now and then one of them hears no error marks
+  // (its port lost PARMRK for a while), so its bursts end clean. That one must not hide
+  // the pattern.
   std::vector<SettingEvidence> table;
   for (const std::uint32_t baud :
        {1200U, 2400U, 4800U, 9600U, 14400U, 19200U, 38400U, 57600U, 76800U, 115200U}) {

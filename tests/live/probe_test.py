@@ -21,6 +21,8 @@ pairs; probe listens on endpoint 2 and never writes.
   glitches          an unbiased line (a low pulse at each turnaround): probe still finds
                     the setting, and names the lone bytes as a bias problem.
   inverted          A and B swapped: no setting fits (exit 3) and probe says to swap them.
+  unlisted_rate     a straight line at 31250 8E1, a rate no candidate has: no setting fits
+                    (exit 3), and probe does not call it a swapped pair.
   quiet             nobody talks: probe says so, waits out --max-time, exits 3.
 """
 import argparse
@@ -235,6 +237,23 @@ def inverted(args):
     print("ok: swapped pair recognised")
 
 
+def unlisted_rate(args):
+    setting = (31250, "E", 1)
+    r, table = run_with_talkers(args, setting, [],
+                                ["--dwell", str(args.dwell), "--max-time", "10"], "unlisted_rate")
+    if r.returncode != 3:
+        fail(f"a rate no candidate has: expected exit 3, got {r.returncode}")
+    if table is None or table["inverted"] or "swap A and B" in r.stdout:
+        fail("a straight line at an unlisted rate was called a swapped pair")
+    heard = [x for x in table["settings"] if x["bursts"] >= 3]
+    ends = sum(x["bursts"] for x in heard)
+    flagged = sum(x["bursts_ending_flagged"] for x in heard)
+    if len(heard) < 10:
+        fail(f"only {len(heard)} settings heard bursts")
+    print(f"ok: not called swapped; {flagged} of {ends} burst ends flagged "
+          f"over {len(heard)} settings")
+
+
 def quiet(args):
     vbus, eps = start_bus(args.vbus, (9600, "E", 1), [])
     try:
@@ -262,7 +281,7 @@ def main():
     ap.add_argument("--work", required=True)
     ap.add_argument("--scenario", required=True,
                     choices=["find", "wrong_parity", "n2_vs_e1", "talk_tty", "live_marks",
-                             "glitches", "inverted", "quiet"])
+                             "glitches", "inverted", "unlisted_rate", "quiet"])
     ap.add_argument("--setting", action="append", default=[], help="BAUD:8E1 (find)")
     ap.add_argument("--dwell", type=float, default=0.8)
     args = ap.parse_args()

@@ -2,6 +2,7 @@
 // The one contract of every capture file reader (text hex, Saleae CSV, pcap/pcapng): it
 // delivers what the file holds, in file order, to a CaptureConsumer, and says what the file
 // declares. The replay driver (pipeline/replay.hpp) reads every format through it.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -25,6 +26,12 @@ class CaptureConsumer {
   virtual ~CaptureConsumer() = default;
   // Bytes as a receiver read them; the framer finds the frames.
   virtual void on_chunk(const Chunk& chunk) = 0;
+  // Several one-byte reads in a row, delivered as one item where the reader was asked to
+  // (ReadAhead's whole byte runs). The same as one on_chunk() per read, which is what it does
+  // unless a consumer can take the run at once for less.
+  virtual void on_byte_reads(const ByteReads& reads) {
+    for (std::size_t i = 0; i < reads.size(); ++i) on_chunk(reads.read(i));
+  }
   // Bytes whose frame boundaries the capture already knows (a frame, or bytes that form no
   // frame), starting at `t_start`; `origin` is where they are in the file.
   virtual void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) = 0;

@@ -114,10 +114,11 @@ class ReadAhead::Collector final : public CaptureConsumer {
 };
 
 ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside,
-                     bool hand_over_records)
+                     bool hand_over_records, bool whole_byte_runs)
     : reader_(std::move(reader)),
       alongside_(alongside),
       hand_over_records_(hand_over_records),
+      whole_byte_runs_(whole_byte_runs),
       name_(reader_->name()),
       input_size_(reader_->input_size()),
       queue_(std::make_unique<HandoffQueue<Batch>>(kBatches)) {
@@ -200,13 +201,27 @@ bool ReadAhead::deliver_byte_read(const Item& item, const Batch& batch, CaptureC
   return true;
 }
 
+void ReadAhead::deliver_byte_run(const Item& item, const Batch& batch, CaptureConsumer& to) {
+  ByteReads reads;
+  reads.bytes = batch.arena.bytes(item.run);
+  reads.t_ends = batch.byte_times.get() + static_cast<std::size_t>(item.t);
+  reads.origin = item.origin;
+  reads.port = item.port;
+  to.on_byte_reads(reads);
+}
+
 bool ReadAhead::read(CaptureConsumer& to) {
   for (;;) {
     if (ended_) return false;
     if (current_ != nullptr && next_item_ < current_->items.size()) {
       const Item& item = current_->items[next_item_];
       if (item.kind == Item::Kind::kByteReads) {
-        if (deliver_byte_read(item, *current_, to)) ++next_item_;
+        if (whole_byte_runs_) {
+          deliver_byte_run(item, *current_, to);
+          ++next_item_;
+        } else if (deliver_byte_read(item, *current_, to)) {
+          ++next_item_;
+        }
       } else {
         deliver(item, *current_, to);
         ++next_item_;

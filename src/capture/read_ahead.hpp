@@ -33,8 +33,11 @@ class ReadAhead final : public CaptureReader {
   // nothing. It is the reading thread's until read() has returned false or thrown.
   // `hand_over_records` false: the reader's frame and noise records are not handed over (only
   // `alongside` sees them), for a consumer that re-frames the raw reads and leaves them aside.
+  // `whole_byte_runs`: one-byte reads in a row go out as one item (on_byte_reads), up to a
+  // batch's worth, instead of one read() each; for a consumer that reads to the end and
+  // never needs to stop between two reads.
   explicit ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside = nullptr,
-                     bool hand_over_records = true);
+                     bool hand_over_records = true, bool whole_byte_runs = false);
   // Stops the reading thread (reading need not have reached the end) and waits for it.
   ~ReadAhead() override;
   ReadAhead(const ReadAhead&) = delete;
@@ -66,10 +69,13 @@ class ReadAhead final : public CaptureReader {
   void deliver(const Item& item, const Batch& batch, CaptureConsumer& to);
   // The next one-byte read of a run: true when it was the run's last.
   bool deliver_byte_read(const Item& item, const Batch& batch, CaptureConsumer& to);
+  // All one-byte reads of a run at once (whole_byte_runs).
+  static void deliver_byte_run(const Item& item, const Batch& batch, CaptureConsumer& to);
 
   std::unique_ptr<CaptureReader> reader_;
   CaptureConsumer* alongside_;
   bool hand_over_records_;
+  bool whole_byte_runs_;
   std::string name_;
   std::uint64_t input_size_ = 0;
   std::uint64_t bytes_read_ = 0;

@@ -1,6 +1,7 @@
 #pragma once
 // The unit every capture source produces: the bytes one read() returned, stamped with the
 // time the read completed, which is when the LAST byte had finished arriving.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -28,6 +29,27 @@ struct Chunk {
   // Which receiver read it: 0, or 1 for the second port of a two-port capture (the two
   // directions of a link). Each port is framed on its own.
   std::uint8_t port = 0;
+};
+
+// One-byte reads in a row on one port, none with a line error or a measured start: what a
+// per-byte capture holds, handed on as one run instead of a call per byte. Read i is
+// bytes[i], completed at t_ends[i], from origin + i in the input.
+struct ByteReads {
+  std::span<const std::uint8_t> bytes;
+  const Nanos* t_ends = nullptr;  // bytes.size() of them
+  std::uint64_t origin = 0;
+  std::uint8_t port = 0;
+
+  [[nodiscard]] std::size_t size() const { return bytes.size(); }
+  // Read i as the Chunk it stands for.
+  [[nodiscard]] Chunk read(std::size_t i) const {
+    Chunk chunk;
+    chunk.t_end = t_ends[i];
+    chunk.bytes = bytes.subspan(i, 1);
+    chunk.origin = origin + i;
+    chunk.port = port;
+    return chunk;
+  }
 };
 
 }  // namespace rtu

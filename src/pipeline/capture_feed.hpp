@@ -18,11 +18,17 @@ class CaptureFeed final : public CaptureConsumer {
               std::function<void(const Chunk&)> on_chunk = {});
 
   void on_chunk(const Chunk& chunk) override;
+  void on_byte_reads(const ByteReads& reads) override;
   void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override;
   void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override;
   // A live recording ends where the live run stopped: what was pending then (a request
   // still waiting for its answer) is decided as live decided it.
-  void on_end(Nanos t) override { pipeline_.idle(t); }
+  void on_end(Nanos t) override {
+    ++items_;
+    pipeline_.idle(t);
+  }
+  // Items delivered so far, each read of a run counted (for progress).
+  [[nodiscard]] std::uint64_t items() const { return items_; }
 
  private:
   [[nodiscard]] Nanos t_end(std::span<const std::uint8_t> bytes, Nanos t_start) const {
@@ -35,6 +41,7 @@ class CaptureFeed final : public CaptureConsumer {
   Nanos char_time_;
   std::function<void(const Chunk&)> on_chunk_;
   Nanos line_free_at_ = kUnknownTime;
+  std::uint64_t items_ = 0;
 };
 
 }  // namespace rtu

@@ -98,17 +98,29 @@ void DecodePipeline::start(const CaptureInfo& info) {
   impl_->pairing.on_capture(info);
 }
 
+void DecodePipeline::start_as_configured() {
+  CaptureInfo info;
+  info.line = impl_->options.line;
+  info.timing_resolution = impl_->options.timing_resolution;
+  info.per_byte_timing = impl_->options.per_byte_timing;
+  info.response_timeout = impl_->options.response_timeout;
+  start(info);
+}
+
 void DecodePipeline::push(const Chunk& chunk) {
-  if (!impl_->started) {
-    CaptureInfo info;
-    info.line = impl_->options.line;
-    info.timing_resolution = impl_->options.timing_resolution;
-    info.per_byte_timing = impl_->options.per_byte_timing;
-    info.response_timeout = impl_->options.response_timeout;
-    start(info);
-  }
+  if (!impl_->started) start_as_configured();
   if (chunk.bytes.empty()) return;
-  Framer& framer = impl_->framer_for(chunk.port);
+  push_read(impl_->framer_for(chunk.port), chunk);
+}
+
+void DecodePipeline::push_byte_reads(const ByteReads& reads) {
+  if (!impl_->started) start_as_configured();
+  if (reads.size() == 0) return;
+  Framer& framer = impl_->framer_for(reads.port);
+  for (std::size_t i = 0; i < reads.size(); ++i) push_read(framer, reads.read(i));
+}
+
+void DecodePipeline::push_read(Framer& framer, const Chunk& chunk) {
   idle(chunk.t_end);  // nothing was read, on any port, before this read completed
   framer.push(chunk);
   impl_->merge.drain();

@@ -14,6 +14,8 @@
 
 namespace rtu {
 
+class Framer;
+
 struct PipelineOptions {
   LineSettings line;
   Nanos response_timeout = 1000 * kNanosPerMilli;
@@ -38,6 +40,9 @@ class DecodePipeline {
   // Header to the sink; called automatically before the first record if not called.
   void start(const CaptureInfo& info);
   void push(const Chunk& chunk);
+  // One push() for each of `reads`, in order; the loop runs here, with the port's framer
+  // found once.
+  void push_byte_reads(const ByteReads& reads);
   // A frame whose boundaries are already known (e.g. imported from a pcap with
   // LINKTYPE_WIRESHARK_UPPER_PDU): bypasses the framer, still CRC-checked and paired.
   // Longer than kMaxAdu, it is split, never cut: a CRC-valid one becomes a `too_long`
@@ -70,6 +75,11 @@ class DecodePipeline {
   void finish();
 
  private:
+  // start() with what the options say, for input that comes before any start().
+  void start_as_configured();
+  // A non-empty read, to its port's `framer`.
+  void push_read(Framer& framer, const Chunk& chunk);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -38,7 +38,7 @@ struct FramingAhead::Batch {
   ByteArena arena;
   std::optional<CaptureInfo> capture;
   std::uint64_t bytes_read = 0;  // the reader's progress once the batch was full
-  std::uint64_t items_read = 0;  // reader items in this batch
+  std::uint64_t items_read = 0;  // reads and records in this batch
   bool last = false;             // the capture's end was told in it
   std::exception_ptr error;      // how reading failed, thrown after the steps
 
@@ -136,6 +136,7 @@ void FramingAhead::run() {
   if (alongside_ != nullptr) tee.emplace(*alongside_, feed);
   CaptureConsumer& to = tee ? static_cast<CaptureConsumer&>(*tee) : feed;
   bool started = false;
+  std::uint64_t items_before = 0;
   for (;;) {
     auto batch = queue_->acquire();
     if (batch == nullptr) return;
@@ -151,12 +152,14 @@ void FramingAhead::run() {
           batch->last = true;
           break;
         }
-        ++batch->items_read;
       }
     } catch (...) {
       batch->last = true;
       batch->error = std::current_exception();
     }
+    // Reads, not reader items: a run of one-byte reads is one item (ReadAhead).
+    batch->items_read = feed.items() - items_before;
+    items_before = feed.items();
     if (batch->last) {
       // Everything read before the end or the damage is still framed and told.
       try {

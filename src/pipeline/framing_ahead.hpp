@@ -11,8 +11,9 @@
 // CaptureFeed; so the output of a run never depends on the threads.
 //
 // Memory is bounded: at most kBatches batches of about kBatchSteps steps or kBatchBytes raw
-// bytes exist at a time. Fewer, larger handoffs matter where a third thread (a ReadAhead
-// inside) shares the two cores.
+// bytes exist at a time (a batch is checked between reader items, and a ReadAhead inside
+// hands over a run of at most its kBatchItems one-byte reads as one item). Fewer, larger
+// handoffs matter where a third thread (a ReadAhead inside) shares the two cores.
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -62,7 +63,8 @@ class FramingAhead {
 
   [[nodiscard]] const Setup& setup() const { return setup_; }
   [[nodiscard]] std::string name() const { return name_; }
-  // How far the reader had got by the batch delivered last, in input bytes and items.
+  // How far the reader had got by the batch delivered last, in input bytes and items (reads
+  // and records).
   [[nodiscard]] std::uint64_t bytes_read() const { return bytes_read_; }
   [[nodiscard]] std::uint64_t items_read() const { return items_read_; }
   [[nodiscard]] std::uint64_t input_size() const { return input_size_; }

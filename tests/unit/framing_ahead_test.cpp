@@ -8,11 +8,14 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "capture/open_capture.hpp"
+#include "capture/read_ahead.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
 #include "pairing/transaction_tracker.hpp"
@@ -84,10 +87,17 @@ std::vector<std::string> decoded_directly(const std::string& path, bool with_chu
   return out.lines;
 }
 
-std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks) {
-  auto reader = open_capture(path, [](std::string_view) {});
+// `parse_ahead`: the reader runs in a ReadAhead of its own that hands runs of one-byte reads
+// over whole, as a replay of a per-byte capture does. `items`, if given, gets items_read().
+std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks,
+                                       bool parse_ahead = false, std::uint64_t* items = nullptr) {
+  std::unique_ptr<CaptureReader> reader = open_capture(path, [](std::string_view) {});
   Transcript out;
   const auto setup = setup_for(*reader, with_chunks ? &out : nullptr);
+  if (parse_ahead) {
+    reader = std::make_unique<ReadAhead>(std::move(reader), nullptr, !setup.use_chunks,
+                                         /*whole_byte_runs=*/true);
+  }
   FramingAhead ahead(std::move(reader), setup);
   EXPECT_EQ(ahead.name(), path);
   TransactionTracker tracker(TrackerConfig{setup.info.response_timeout}, out);
@@ -100,6 +110,7 @@ std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks
     if (ahead.deliver(tracker)) out.lines.emplace_back("deliver after the error returned true");
   }
   EXPECT_TRUE(ahead.ended());
+  if (items != nullptr) *items = ahead.items_read();
   return out.lines;
 }
 
@@ -127,6 +138,65 @@ std::string write_long_capture(const testing::TempDir& dir, bool damaged) {
   }
   if (damaged) text += "not a capture line\n";
   return dir.write(damaged ? "damaged.hex" : "long.hex", text);
+}
+
+// Polling at 9600 baud as a per-byte capture holds it, a line for each byte stamped when it
+// ended: several of a ReadAhead's batches, whose runs of one-byte reads end at the batch ends.
+std::string write_per_byte_capture(const testing::TempDir& dir, bool damaged) {
+  std::string text = "# baud=9600 parity=E stop=1\n";
+  const std::vector<std::uint8_t> request = {0x01, 0x03, 0x00, 0x00, 0x00, 0x01, 0x84, 0x0A};
+  const std::vector<std::uint8_t> response = {0x01, 0x03, 0x02, 0x00, 0x2A, 0x39, 0x9B};
+  const Nanos char_time = LineSettings{}.char_time();
+  const std::size_t polls = 3 * ReadAhead::kBatchItems / 14 + 41;
+  Nanos t = 0;
+  const auto add = [&](const std::vector<std::uint8_t>& frame) {
+    for (const std::uint8_t byte : frame) {
+      t += char_time;
+      text += fmt::format("{}.{:09d} {:02X}\n", t / kNanosPerSecond, t % kNanosPerSecond, byte);
+    }
+  };
+  for (std::size_t i = 0; i < polls; ++i) {
+    t = static_cast<Nanos>(i) * 100 * kNanosPerMilli;
+    add(request);
+    t += 5 * kNanosPerMilli;
+    if (i % 7 != 3) add(response);
+  }
+  if (damaged) text += "not a capture line\n";
+  return dir.write(damaged ? "per-byte-damaged.hex" : "per-byte.hex", text);
+}
+
+std::uint64_t reads_in(const std::string& path) {
+  auto reader = open_capture(path, [](std::string_view) {});
+  Transcript ignored;
+  std::uint64_t reads = 0;
+  try {
+    while (reader->read(ignored)) ++reads;
+  } catch (const InputError&) {
+    // The reads before the damage are what counts.
+  }
+  return reads;
+}
+
+// Runs of one-byte reads handed over whole (one call for up to a batch of them) are framed
+// as the reads one by one: the same records at the same points, the same raw reads where a
+// callback sees them (it then gets them one at a time), and every read counted as an item.
+TEST(FramingAhead, RunsOfOneByteReadsHandedOverWholeAreFramedAsTheReadsOneByOne) {
+  const testing::TempDir dir;
+  auto paths = testing::bundled_text_captures();
+  paths.push_back(write_per_byte_capture(dir, false));
+  paths.push_back(write_per_byte_capture(dir, true));
+  for (const auto& path : paths) {
+    SCOPED_TRACE(path);
+    for (const bool with_chunks : {false, true}) {
+      std::uint64_t items = 0;
+      EXPECT_EQ(decoded_ahead(path, with_chunks, true, &items),
+                decoded_directly(path, with_chunks));
+      EXPECT_EQ(items, reads_in(path));
+    }
+  }
+  const auto lines = decoded_directly(paths.back(), false);
+  EXPECT_EQ(lines.back().rfind("error: ", 0), 0U) << lines.back();
+  EXPECT_GT(reads_in(paths.back()), 2 * ReadAhead::kBatchItems);
 }
 
 TEST(FramingAhead, TellsWhatTheTrackerIsToldInOneThreadForEveryBundledCapture) {

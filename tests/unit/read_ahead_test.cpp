@@ -20,7 +20,7 @@ namespace rtu {
 namespace {
 
 // Writes every call it gets as one line of text.
-class Transcript final : public CaptureConsumer {
+class Transcript : public CaptureConsumer {
  public:
   void on_chunk(const Chunk& c) override {
     lines.push_back(fmt::format("chunk t={} first={} port={} origin={} bytes={:02x} errors={:02x}",
@@ -152,6 +152,35 @@ TEST(ReadAhead, OneByteReadsComeOutAsTheReaderGaveThemWhateverEndsTheirRuns) {
   ReadAhead ahead(std::make_unique<ScriptedReader>());
   EXPECT_EQ(transcript_of(ahead), expected);
   EXPECT_EQ(expected.size(), ScriptedReader::kSteps + 1);
+}
+
+// A transcript that also counts the runs handed over whole, and the reads in them.
+class RunTranscript final : public Transcript {
+ public:
+  void on_byte_reads(const ByteReads& reads) override {
+    ++runs;
+    reads_in_runs += reads.size();
+    CaptureConsumer::on_byte_reads(reads);  // a line for each read, as on_chunk() writes it
+  }
+  std::size_t runs = 0;
+  std::size_t reads_in_runs = 0;
+};
+
+// Asked for whole runs, ReadAhead hands each run of one-byte reads over in one call; the
+// reads in it are those the reader gave, whatever ended the run (another port, a line error,
+// a start time, a longer read, a record, a gap in the origins, the batch's end).
+TEST(ReadAhead, WholeRunsOfOneByteReadsHoldTheReadsTheReaderGave) {
+  ScriptedReader direct;
+  const auto expected = transcript_of(direct);
+  ReadAhead ahead(std::make_unique<ScriptedReader>(), nullptr, true, /*whole_byte_runs=*/true);
+  RunTranscript got;
+  std::size_t calls = 0;
+  while (ahead.read(got)) ++calls;
+  EXPECT_EQ(got.lines, expected);
+  EXPECT_GT(got.runs, 100U);
+  EXPECT_GT(got.reads_in_runs, ScriptedReader::kSteps / 2);
+  // Each run was one read() call.
+  EXPECT_EQ(calls, expected.size() - got.reads_in_runs + got.runs);
 }
 
 // Without records handed over, the reads and the end come out as before, the frame and

@@ -115,7 +115,7 @@ void Framer::push(const Chunk& chunk) {
     if (buffered() >= kMaxPending) [[unlikely]] {
       decide(false);
     }
-    decide(false);
+    if (!head_still_waits()) decide(false);
     return;
   }
   std::size_t i = 0;
@@ -144,6 +144,28 @@ void Framer::push(const Chunk& chunk) {
     }
   }
   decide(false);
+}
+
+// Most bytes of a per-byte read bring a frame no nearer to a decision: its head waits for a
+// predicted length (a request's fixed size, a response's byte count) that is not there yet.
+// decide(false) would then run the watches on (none: only the mark moves), find the head's
+// remembered answer, "waits" (quiet_starts.hpp), and look at the new byte for a silence
+// (none: only that mark moves), and wait. Here that is done directly, under exactly those
+// conditions; anything else (a watch, a search to make, a silence, a full window, a head
+// whose answer waits on its CRC search) goes the long way.
+bool Framer::head_still_waits() {
+  const std::size_t n = buffered();
+  if (n < 2 || n >= kMaxPending || quiet_starts_.any_watched()) return false;
+  if (silence_search_from_ != consumed_ + n - 1 || silence_before(info_at(n - 1).gap_before)) {
+    return false;
+  }
+  if (settled_.test(consumed_ % kWindow)) return false;
+  const QuietStart* head = quiet_starts_.find(consumed_, epoch_, consumed_ + n);
+  if (head == nullptr || head->watch_crc_scan || !head->pending) return false;
+  quiet_starts_.unwatch_all(consumed_ + n);  // run_quiet_watch_on() with nothing watched
+  answer_may_change_ = head->may_change;     // as the remembered answer sets it
+  silence_search_from_ = consumed_ + n;      // the new byte shows no silence
+  return true;
 }
 
 void Framer::decide_after_silence() {

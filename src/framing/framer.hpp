@@ -129,6 +129,9 @@ class Framer {
   [[nodiscard]] bool reads_are_batched() const;
   void decide(bool at_end);
   Verdict decide_head(bool at_end);
+  // decide(false) after a read of one byte, where its answer is known without a search;
+  // then it does what decide(false) would (see framer.cpp) and returns true.
+  bool head_still_waits();
 
   // Length of a CRC-confirmed frame starting at `pos` (0 if none can be confirmed with
   // the bytes buffered now). `pending` is set when a predicted length needs more bytes.

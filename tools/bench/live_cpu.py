@@ -2,7 +2,7 @@
 """CPU of `rtuscope live` on a saturated virtual bus, as a plant would see it.
 
     tools/bench/live_cpu.py [--baud 115200] [--seconds 60] [--usb-latency-ms 1]
-                            [--build build]
+                            [--build build] [--floor]
 
 A master and a slave endpoint of rtuvbus exchange CRC-valid Modbus frames back to back
 (requests of 8 bytes, answers of 5-69 bytes, a t3.5-sized pause between frames), which keeps
@@ -13,6 +13,10 @@ millisecond, as from a real FTDI adapter, not in one read per frame. rtuscope wr
 lines to /dev/null and records a pcapng. Prints the line load, the CPU that rtuscope used
 (the scheduler's nanosecond count, /proc/PID/task/*/schedstat) as a share of one core, and
 rtuscope's own summary of its reads.
+
+With --floor, tools/bench/read_floor listens instead of rtuscope: a blocking read() per batch
+the port hands over and nothing else, the least CPU any program can use to hear the same
+reads on this machine. rtuscope's figure minus that one is what its own work costs.
 """
 import argparse
 import os
@@ -45,7 +49,10 @@ def main():
     ap.add_argument("--seconds", type=float, default=60)
     ap.add_argument("--usb-latency-ms", type=float, default=1.0)
     ap.add_argument("--build", default=os.path.join(os.path.dirname(__file__), "../../build"))
+    ap.add_argument("--floor", action="store_true",
+                    help="measure tools/bench/read_floor (a bare blocking reader) instead")
     args = ap.parse_args()
+    listener = "read_floor" if args.floor else "rtuscope live"
     char_s = 11 / args.baud  # 8E1
     work = tempfile.mkdtemp(prefix="rtuscope-livecpu-")
     links = os.path.join(work, "bus")
@@ -61,10 +68,15 @@ def main():
             if time.monotonic() > deadline:
                 sys.exit("live_cpu: the virtual bus did not come up")
             time.sleep(0.05)
-        live = subprocess.Popen(
-            [os.path.join(args.build, "rtuscope"), "live", os.path.join(links, "ep2"),
-             "--baud", str(args.baud), "--format", "jsonl", "-o", os.environ.get("LIVE_CPU_JSONL", os.devnull),
-             "-w", os.path.join(work, "rec.pcapng")], stderr=live_log)
+        if args.floor:
+            command = [os.path.join(args.build, "tools", "bench", "read_floor"),
+                       os.path.join(links, "ep2")]
+        else:
+            command = [os.path.join(args.build, "rtuscope"), "live", os.path.join(links, "ep2"),
+                       "--baud", str(args.baud), "--format", "jsonl",
+                       "-o", os.environ.get("LIVE_CPU_JSONL", os.devnull),
+                       "-w", os.path.join(work, "rec.pcapng")]
+        live = subprocess.Popen(command, stderr=live_log)
         procs.append(live)
         time.sleep(1)
         writers = [os.open(os.path.join(links, f"ep{i}"), os.O_RDWR | os.O_NOCTTY)
@@ -95,7 +107,7 @@ def main():
         elapsed = time.monotonic() - start
         used = cpu_seconds_exact(live.pid) - start_cpu
         print(f"{args.baud} baud, line {100 * busy / elapsed:.0f}% busy, USB latency "
-              f"{args.usb_latency_ms:g} ms, {elapsed:.0f} s: rtuscope live used {used:.2f} s "
+              f"{args.usb_latency_ms:g} ms, {elapsed:.0f} s: {listener} used {used:.2f} s "
               f"of CPU = {100 * used / elapsed:.2f}% of a core")
         for fd in writers:
             os.close(fd)
@@ -103,8 +115,9 @@ def main():
         live.wait()
         live_log.close()
         with open(os.path.join(work, "live.log")) as f:
-            summary = [line.strip() for line in f if " reads: " in line]
-        print(summary[-1] if summary else "rtuscope live printed no summary of its reads")
+            summary = [line.strip() for line in f
+                       if " reads: " in line or line.startswith("read_floor: ")]
+        print(summary[-1] if summary else f"{listener} printed no summary of its reads")
     finally:
         for p in reversed(procs):
             p.terminate()

@@ -45,6 +45,13 @@ class ByteArena {
     bytes_[size_++] = byte;
     ++run.size;
   }
+  // Appends error-free bytes to `run`, which must be the last run added.
+  void extend(Run& run, std::span<const std::uint8_t> bytes) {
+    make_room(bytes.size());
+    std::copy(bytes.begin(), bytes.end(), bytes_.begin() + static_cast<std::ptrdiff_t>(size_));
+    size_ += bytes.size();
+    run.size += static_cast<std::uint32_t>(bytes.size());
+  }
   [[nodiscard]] std::span<const std::uint8_t> bytes(const Run& run) const {
     return {bytes_.data() + run.at, run.size};
   }

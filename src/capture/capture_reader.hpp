@@ -48,6 +48,15 @@ class CaptureReader {
   // at the end. Throws InputError on unusable input (with file:line or offset), after
   // delivering everything before the damage.
   virtual bool read(CaptureConsumer& to) = 0;
+  // As read(), for a consumer that reads to the end and never stops between two reads (a
+  // ReadAhead's reading thread): a reader that can may deliver several items in one call,
+  // runs of one-byte reads among them as on_byte_reads(), up to `max_reads` reads in all.
+  // Everything is delivered in file order, and what was read before damage is delivered
+  // before the InputError is thrown.
+  virtual bool read_many(CaptureConsumer& to, std::size_t max_reads) {
+    (void)max_reads;
+    return read(to);
+  }
 
   // Name for messages and output headers (usually the path).
   [[nodiscard]] virtual std::string name() const = 0;

@@ -1,5 +1,6 @@
 #include "capture/read_ahead.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <memory>
 #include <optional>
@@ -83,6 +84,23 @@ class ReadAhead::Collector final : public CaptureConsumer {
     if (records_) new_item(Item::Kind::kNoise, t_start, origin).run = batch_.arena.add(bytes);
   }
   void on_end(Nanos t) override { new_item(Item::Kind::kEnd, t, 0); }
+  // A run of one-byte reads at once; the batch has room for its times (run()).
+  void on_byte_reads(const ByteReads& reads) override {
+    const std::size_t n = reads.size();
+    if (n == 0) return;
+    Item* item = batch_.items.empty() ? nullptr : &batch_.items.back();
+    if (item != nullptr && item->kind == Item::Kind::kByteReads && item->port == reads.port &&
+        item->origin + item->run.size == reads.origin) {
+      batch_.arena.extend(item->run, reads.bytes);
+    } else {
+      item = &new_item(Item::Kind::kByteReads, static_cast<Nanos>(batch_.byte_time_count),
+                       reads.origin);
+      item->port = reads.port;
+      item->run = batch_.arena.add(reads.bytes);
+    }
+    std::copy(reads.t_ends, reads.t_ends + n, batch_.byte_times.get() + batch_.byte_time_count);
+    batch_.byte_time_count += n;
+  }
 
  private:
   // Extends the last item when it is a run of one-byte reads that this read continues.
@@ -142,7 +160,8 @@ void ReadAhead::run() {
     CaptureConsumer& to = tee ? static_cast<CaptureConsumer&>(*tee) : collector;
     try {
       while (!batch->full()) {
-        if (!reader_->read(to)) {
+        // Runs of one-byte reads come whole, up to the room left for their times.
+        if (!reader_->read_many(to, kBatchItems - batch->byte_time_count)) {
           batch->last = true;
           break;
         }

@@ -27,16 +27,20 @@ namespace {
 // Pass 1: what the capture holds and how its reads are timed.
 class Survey final : public CaptureConsumer {
  public:
-  void on_chunk(const Chunk& chunk) override {
-    ++chunks;
-    estimator.add(chunk);
-    line_check.add(chunk);
+  void on_chunk(const Chunk& chunk) override { add(chunk); }
+  void on_byte_reads(const ByteReads& reads) override {
+    for (std::size_t i = 0; i < reads.size(); ++i) add(reads.read(i));
   }
   void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
                 std::uint64_t /*origin*/) override {}
   void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
                 std::uint64_t /*origin*/) override {}
   void on_end(Nanos /*t*/) override {}
+  void add(const Chunk& chunk) {
+    ++chunks;
+    estimator.add(chunk);
+    line_check.add(chunk);
+  }
 
   TimingEstimator estimator;
   LineCheck line_check;

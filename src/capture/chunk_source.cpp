@@ -1,0 +1,61 @@
+#include "capture/chunk_source.hpp"
+
+#include <algorithm>
+#include <exception>
+
+namespace rtu {
+
+bool ChunkSource::read_many(CaptureConsumer& to, std::size_t max_reads) {
+  if (at_end_) return false;
+  if (!run_bytes_) {
+    run_bytes_ = std::make_unique_for_overwrite<std::uint8_t[]>(kMaxRun);
+    run_times_ = std::make_unique_for_overwrite<Nanos[]>(kMaxRun);
+  }
+  const std::size_t limit = std::clamp<std::size_t>(max_reads, 1, kMaxRun);
+  ByteReads run;
+  run.t_ends = run_times_.get();
+  std::size_t size = 0;
+  const auto deliver_run = [&] {
+    if (size == 0) return;
+    run.bytes = {run_bytes_.get(), size};
+    to.on_byte_reads(run);
+    size = 0;
+  };
+  std::size_t reads = 0;
+  for (;;) {
+    bool more = false;
+    try {
+      more = next(chunk_);
+    } catch (...) {
+      deliver_run();  // everything before the damage first
+      throw;
+    }
+    if (!more) {
+      at_end_ = true;
+      deliver_run();
+      return reads > 0;
+    }
+    ++reads;
+    if (!one_byte_read(chunk_)) {
+      deliver_run();
+      to.on_chunk(chunk_);
+      return true;
+    }
+    if (size > 0 && (chunk_.port != run.port || chunk_.origin != run.origin + size)) {
+      deliver_run();
+    }
+    if (size == 0) {
+      run.origin = chunk_.origin;
+      run.port = chunk_.port;
+    }
+    run_bytes_[size] = chunk_.bytes[0];
+    run_times_[size] = chunk_.t_end;
+    ++size;
+    if (reads == limit) {
+      deliver_run();
+      return true;
+    }
+  }
+}
+
+}  // namespace rtu

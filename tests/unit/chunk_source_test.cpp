@@ -1,0 +1,103 @@
+// ChunkSource::read_many() gathers one-byte reads into runs: whatever the room it is given,
+// the reads come out as read() gives them, one by one, in order, with every kind of chunk
+// that ends a run (a longer read, a line error, a comment line between, the end, damage),
+// and what was read before damage comes out before the error.
+#include "capture/chunk_source.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capture/open_capture.hpp"
+#include "capture_test_files.hpp"
+#include "core/input_error.hpp"
+
+namespace rtu {
+namespace {
+
+// Writes every read as a line; counts the runs and the reads in them.
+class Transcript final : public CaptureConsumer {
+ public:
+  void on_chunk(const Chunk& c) override {
+    lines.push_back(fmt::format("chunk t={} first={} port={} origin={} bytes={:02x} errors={:02x}",
+                                c.t_end, c.t_first_start, c.port, c.origin, fmt::join(c.bytes, ""),
+                                fmt::join(c.errors, "")));
+  }
+  void on_byte_reads(const ByteReads& reads) override {
+    ++runs;
+    reads_in_runs += reads.size();
+    CaptureConsumer::on_byte_reads(reads);
+  }
+  void on_frame(std::span<const std::uint8_t> adu, Nanos t, std::uint64_t origin) override {
+    lines.push_back(fmt::format("frame t={} origin={} {:02x}", t, origin, fmt::join(adu, "")));
+  }
+  void on_noise(std::span<const std::uint8_t> bytes, Nanos t, std::uint64_t origin) override {
+    lines.push_back(fmt::format("noise t={} origin={} {:02x}", t, origin, fmt::join(bytes, "")));
+  }
+  void on_end(Nanos t) override { lines.push_back(fmt::format("end t={}", t)); }
+  std::vector<std::string> lines;
+  std::size_t runs = 0;
+  std::size_t reads_in_runs = 0;
+};
+
+// Reads `path` to its end, with read() when `room` is 0, else read_many(room); an error
+// becomes the last line.
+Transcript transcript_of(const std::string& path, std::size_t room) {
+  auto reader = open_capture(path, [](std::string_view) {});
+  Transcript t;
+  const auto read = [&] { return room == 0 ? reader->read(t) : reader->read_many(t, room); };
+  try {
+    while (read()) {
+    }
+    if (read()) t.lines.emplace_back("read after the end returned true");
+  } catch (const InputError& e) {
+    t.lines.push_back(std::string("error: ") + e.what());
+  }
+  return t;
+}
+
+// Per-byte lines with everything that ends a run of one-byte reads among them.
+std::string per_byte_capture(const testing::TempDir& dir, bool damaged) {
+  std::string text = "# baud=9600 parity=E stop=1\n";
+  for (int i = 0; i < 9000; ++i) {
+    const int ms = i * 2;
+    if (i % 997 == 5) text += "# a comment between two reads\n";
+    if (i % 1201 == 7) {
+      text += fmt::format("{}.{:03d} 01 02 03\n", ms / 1000, ms % 1000);  // a longer read
+      continue;
+    }
+    text += fmt::format("{}.{:03d} {:02X}\n", ms / 1000, ms % 1000, i % 256);
+  }
+  if (damaged) text += "0.5 not hex\n";
+  return dir.write(damaged ? "damaged.hex" : "clean.hex", text);
+}
+
+TEST(ChunkSource, ReadManyGivesTheReadsOfReadWhateverItsRoom) {
+  const testing::TempDir dir;
+  std::vector<std::string> paths = testing::bundled_text_captures();
+  paths.push_back(per_byte_capture(dir, false));
+  paths.push_back(per_byte_capture(dir, true));
+  for (const auto& path : paths) {
+    SCOPED_TRACE(path);
+    const auto expected = transcript_of(path, 0).lines;
+    EXPECT_FALSE(expected.empty());
+    for (const std::size_t room : {1U, 2U, 3U, 7U, 4096U, 100000U}) {
+      SCOPED_TRACE(room);
+      const Transcript got = transcript_of(path, room);
+      EXPECT_EQ(got.lines, expected);
+    }
+  }
+  // The per-byte capture's reads came in runs, and its damage after all of them.
+  const Transcript clean = transcript_of(paths[paths.size() - 2], 4096);
+  EXPECT_GT(clean.reads_in_runs, 8900U);
+  EXPECT_LT(clean.runs, 60U);
+  const Transcript damaged = transcript_of(paths.back(), 4096);
+  EXPECT_EQ(damaged.lines.back().rfind("error: ", 0), 0U) << damaged.lines.back();
+  EXPECT_EQ(damaged.reads_in_runs, clean.reads_in_runs);
+}
+
+}  // namespace
+}  // namespace rtu

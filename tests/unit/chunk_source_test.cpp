@@ -14,40 +14,18 @@
 #include "capture/open_capture.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
+#include "item_transcript.hpp"
 
 namespace rtu {
 namespace {
 
-// Writes every read as a line; counts the runs and the reads in them.
-class Transcript final : public CaptureConsumer {
- public:
-  void on_chunk(const Chunk& c) override {
-    lines.push_back(fmt::format("chunk t={} first={} port={} origin={} bytes={:02x} errors={:02x}",
-                                c.t_end, c.t_first_start, c.port, c.origin, fmt::join(c.bytes, ""),
-                                fmt::join(c.errors, "")));
-  }
-  void on_byte_reads(const ByteReads& reads) override {
-    ++runs;
-    reads_in_runs += reads.size();
-    CaptureConsumer::on_byte_reads(reads);
-  }
-  void on_frame(std::span<const std::uint8_t> adu, Nanos t, std::uint64_t origin) override {
-    lines.push_back(fmt::format("frame t={} origin={} {:02x}", t, origin, fmt::join(adu, "")));
-  }
-  void on_noise(std::span<const std::uint8_t> bytes, Nanos t, std::uint64_t origin) override {
-    lines.push_back(fmt::format("noise t={} origin={} {:02x}", t, origin, fmt::join(bytes, "")));
-  }
-  void on_end(Nanos t) override { lines.push_back(fmt::format("end t={}", t)); }
-  std::vector<std::string> lines;
-  std::size_t runs = 0;
-  std::size_t reads_in_runs = 0;
-};
+using testing::ItemTranscript;
 
 // Reads `path` to its end, with read() when `room` is 0, else read_many(room); an error
 // becomes the last line.
-Transcript transcript_of(const std::string& path, std::size_t room) {
+ItemTranscript transcript_of(const std::string& path, std::size_t room) {
   auto reader = open_capture(path, [](std::string_view) {});
-  Transcript t;
+  ItemTranscript t;
   const auto read = [&] { return room == 0 ? reader->read(t) : reader->read_many(t, room); };
   try {
     while (read()) {
@@ -86,15 +64,15 @@ TEST(ChunkSource, ReadManyGivesTheReadsOfReadWhateverItsRoom) {
     EXPECT_FALSE(expected.empty());
     for (const std::size_t room : {1U, 2U, 3U, 7U, 4096U, 100000U}) {
       SCOPED_TRACE(room);
-      const Transcript got = transcript_of(path, room);
+      const ItemTranscript got = transcript_of(path, room);
       EXPECT_EQ(got.lines, expected);
     }
   }
   // The per-byte capture's reads came in runs, and its damage after all of them.
-  const Transcript clean = transcript_of(paths[paths.size() - 2], 4096);
+  const ItemTranscript clean = transcript_of(paths[paths.size() - 2], 4096);
   EXPECT_GT(clean.reads_in_runs, 8900U);
   EXPECT_LT(clean.runs, 60U);
-  const Transcript damaged = transcript_of(paths.back(), 4096);
+  const ItemTranscript damaged = transcript_of(paths.back(), 4096);
   EXPECT_EQ(damaged.lines.back().rfind("error: ", 0), 0U) << damaged.lines.back();
   EXPECT_EQ(damaged.reads_in_runs, clean.reads_in_runs);
 }

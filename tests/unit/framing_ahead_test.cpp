@@ -18,14 +18,16 @@
 #include "capture/read_ahead.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
+#include "item_transcript.hpp"
 #include "pairing/transaction_tracker.hpp"
 #include "pipeline/capture_feed.hpp"
 
 namespace rtu {
 namespace {
 
-// Writes every call it gets as one line of text: records with all the tracker gave them.
-class Transcript final : public RecordSink, public CaptureConsumer {
+// Writes every call it gets as one line of text: records with all the tracker gave them, and
+// capture items as ItemTranscript writes them.
+class Transcript final : public RecordSink, public testing::ItemTranscript {
  public:
   void on_capture(const CaptureInfo& info) override {
     lines.push_back(fmt::format("capture {} baud={}", info.source, info.line.baud));
@@ -39,18 +41,6 @@ class Transcript final : public RecordSink, public CaptureConsumer {
         r.request != nullptr ? r.request->seq : -1ULL, fmt::join(r.bytes(), "")));
   }
   void on_finish() override { lines.emplace_back("finish"); }
-  void on_chunk(const Chunk& c) override {
-    lines.push_back(
-        fmt::format("chunk t={} origin={} {:02x}", c.t_end, c.origin, fmt::join(c.bytes, "")));
-  }
-  void on_frame(std::span<const std::uint8_t> adu, Nanos t, std::uint64_t origin) override {
-    lines.push_back(fmt::format("frame t={} origin={} {:02x}", t, origin, fmt::join(adu, "")));
-  }
-  void on_noise(std::span<const std::uint8_t> bytes, Nanos t, std::uint64_t origin) override {
-    lines.push_back(fmt::format("noise t={} origin={} {:02x}", t, origin, fmt::join(bytes, "")));
-  }
-  void on_end(Nanos t) override { lines.push_back(fmt::format("end t={}", t)); }
-  std::vector<std::string> lines;
 };
 
 FramingAhead::Setup setup_for(const CaptureReader& reader, Transcript* chunks) {

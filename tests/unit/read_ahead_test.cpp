@@ -15,32 +15,17 @@
 #include "capture/open_capture.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
+#include "item_transcript.hpp"
 
 namespace rtu {
 namespace {
 
-// Writes every call it gets as one line of text.
-class Transcript : public CaptureConsumer {
- public:
-  void on_chunk(const Chunk& c) override {
-    lines.push_back(fmt::format("chunk t={} first={} port={} origin={} bytes={:02x} errors={:02x}",
-                                c.t_end, c.t_first_start, c.port, c.origin, fmt::join(c.bytes, ""),
-                                fmt::join(c.errors, "")));
-  }
-  void on_frame(std::span<const std::uint8_t> adu, Nanos t, std::uint64_t origin) override {
-    lines.push_back(fmt::format("frame t={} origin={} {:02x}", t, origin, fmt::join(adu, "")));
-  }
-  void on_noise(std::span<const std::uint8_t> bytes, Nanos t, std::uint64_t origin) override {
-    lines.push_back(fmt::format("noise t={} origin={} {:02x}", t, origin, fmt::join(bytes, "")));
-  }
-  void on_end(Nanos t) override { lines.push_back(fmt::format("end t={}", t)); }
-  std::vector<std::string> lines;
-};
+using testing::ItemTranscript;
 
 // Reads `reader` to its end; an error becomes the transcript's last line.
 template <typename Reader>
 std::vector<std::string> transcript_of(Reader& reader) {
-  Transcript t;
+  ItemTranscript t;
   try {
     while (reader.read(t)) {
     }
@@ -154,18 +139,6 @@ TEST(ReadAhead, OneByteReadsComeOutAsTheReaderGaveThemWhateverEndsTheirRuns) {
   EXPECT_EQ(expected.size(), ScriptedReader::kSteps + 1);
 }
 
-// A transcript that also counts the runs handed over whole, and the reads in them.
-class RunTranscript final : public Transcript {
- public:
-  void on_byte_reads(const ByteReads& reads) override {
-    ++runs;
-    reads_in_runs += reads.size();
-    CaptureConsumer::on_byte_reads(reads);  // a line for each read, as on_chunk() writes it
-  }
-  std::size_t runs = 0;
-  std::size_t reads_in_runs = 0;
-};
-
 // Asked for whole runs, ReadAhead hands each run of one-byte reads over in one call; the
 // reads in it are those the reader gave, whatever ended the run (another port, a line error,
 // a start time, a longer read, a record, a gap in the origins, the batch's end).
@@ -173,7 +146,7 @@ TEST(ReadAhead, WholeRunsOfOneByteReadsHoldTheReadsTheReaderGave) {
   ScriptedReader direct;
   const auto expected = transcript_of(direct);
   ReadAhead ahead(std::make_unique<ScriptedReader>(), nullptr, true, /*whole_byte_runs=*/true);
-  RunTranscript got;
+  ItemTranscript got;
   std::size_t calls = 0;
   while (ahead.read(got)) ++calls;
   EXPECT_EQ(got.lines, expected);
@@ -188,7 +161,7 @@ TEST(ReadAhead, WholeRunsOfOneByteReadsHoldTheReadsTheReaderGave) {
 TEST(ReadAhead, LeavesRecordsAsideWhenAskedButAConsumerAlongsideSeesThem) {
   ScriptedReader direct;
   auto expected = transcript_of(direct);
-  Transcript alongside;
+  ItemTranscript alongside;
   {
     ReadAhead ahead(std::make_unique<ScriptedReader>(), &alongside, false);
     const auto got = transcript_of(ahead);
@@ -205,7 +178,7 @@ TEST(ReadAhead, CanBeDroppedBeforeTheEnd) {
   const std::string path = write_long_capture(false);
   for (const int items : {0, 1, 5000}) {
     ReadAhead ahead(open_capture(path, [](std::string_view) {}));
-    Transcript t;
+    ItemTranscript t;
     for (int i = 0; i < items; ++i) ASSERT_TRUE(ahead.read(t));
     EXPECT_EQ(t.lines.size(), static_cast<std::size_t>(items));
   }  // the destructor stops the reading thread, which may be waiting for a free batch
@@ -222,9 +195,9 @@ TEST(ReadAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEnd) 
     auto expected = transcript_of(*direct);
     // The consumer alongside does not see read() return or throw: only the items.
     if (damaged) expected.pop_back();
-    Transcript alongside;
+    ItemTranscript alongside;
     ReadAhead ahead(open_capture(path, [](std::string_view) {}), &alongside);
-    Transcript first;
+    ItemTranscript first;
     ASSERT_TRUE(ahead.read(first));
     EXPECT_FALSE(ahead.ended());
     EXPECT_THROW((void)ahead.source(), std::logic_error);

@@ -26,9 +26,9 @@ class CaptureConsumer {
   virtual ~CaptureConsumer() = default;
   // Bytes as a receiver read them; the framer finds the frames.
   virtual void on_chunk(const Chunk& chunk) = 0;
-  // Several one-byte reads in a row, delivered as one item where the reader was asked to
-  // (ReadAhead's whole byte runs). The same as one on_chunk() per read, which is what it does
-  // unless a consumer can take the run at once for less.
+  // Several one-byte reads in a row, delivered at once where a reader was asked to
+  // (read_many(), or a ReadAhead's whole byte runs). The same as one on_chunk() per read,
+  // which is what it does unless a consumer can take the run at once for less.
   virtual void on_byte_reads(const ByteReads& reads) {
     for (std::size_t i = 0; i < reads.size(); ++i) on_chunk(reads.read(i));
   }

@@ -1,7 +1,6 @@
 #include "capture/chunk_source.hpp"
 
 #include <algorithm>
-#include <exception>
 
 namespace rtu {
 

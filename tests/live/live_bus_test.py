@@ -12,6 +12,7 @@ ep0, a slave (our libmodbus server, or Debian's pymodbus) answers on ep1, and
 import argparse
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -189,6 +190,17 @@ def main():
         print(err, end="")
     finally:
         stop_all(procs)
+
+    # Without an adapter model, --wire-rate hands rtuscope a byte per read at slow rates: the
+    # recording is then replayed as a per-byte capture (runs of one-byte reads, framed ahead),
+    # and step 5 holds that path to the live records too. Make sure it is the one taken.
+    if args.wire_rate and not usb:
+        sizes = re.search(r"(\d+) bytes in (\d+) reads", err)
+        if sizes is None:
+            fail(f"rtuscope live printed no summary of its reads: {err}")
+        nbytes, reads = int(sizes.group(1)), int(sizes.group(2))
+        if reads * 50 < nbytes * 49:  # more than 2% batched: not replayed as per-byte reads
+            fail(f"{nbytes} bytes came in {reads} reads, not one byte per read")
 
     bursts = bus_bursts(log)
     records = load_jsonl(live_out)

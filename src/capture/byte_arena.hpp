@@ -39,12 +39,6 @@ class ByteArena {
     }
     return run;
   }
-  // Appends one error-free byte to `run`, which must be the last run added.
-  void extend(Run& run, std::uint8_t byte) {
-    make_room(1);
-    bytes_[size_++] = byte;
-    ++run.size;
-  }
   // Appends error-free bytes to `run`, which must be the last run added.
   void extend(Run& run, std::span<const std::uint8_t> bytes) {
     make_room(bytes.size());

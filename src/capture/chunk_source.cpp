@@ -35,7 +35,7 @@ bool ChunkSource::read_many(CaptureConsumer& to, std::size_t max_reads) {
       return reads > 0;
     }
     ++reads;
-    if (!one_byte_read(chunk_)) {
+    if (!ByteReads::holds(chunk_)) {
       deliver_run();
       to.on_chunk(chunk_);
       return true;

@@ -28,11 +28,6 @@ class ChunkSource : public CaptureReader {
   bool read_many(CaptureConsumer& to, std::size_t max_reads) final;
 
  private:
-  // Whether `chunk` can join a run of one-byte reads (ByteReads).
-  static bool one_byte_read(const Chunk& chunk) {
-    return chunk.bytes.size() == 1 && chunk.errors.empty() && chunk.t_first_start == kUnknownTime;
-  }
-
   Chunk chunk_;
   bool at_end_ = false;  // next() said so during read_many(), after a run was delivered
   // The run being gathered by read_many(): kMaxRun reads at most, as the bytes and end times

@@ -68,8 +68,9 @@ class ReadAhead::Collector final : public CaptureConsumer {
   // Items are filled in place in the batch: one built on the stack and copied in was
   // stored and reloaded in pieces of different widths, which stalls the copy.
   void on_chunk(const Chunk& chunk) override {
-    if (chunk.bytes.size() == 1 && chunk.errors.empty() && chunk.t_first_start == kUnknownTime) {
-      add_byte_read(chunk);
+    if (ByteReads::holds(chunk)) {
+      // A run of one read: it extends the last item where that is a run it continues.
+      on_byte_reads(ByteReads{chunk.bytes, &chunk.t_end, chunk.origin, chunk.port});
       return;
     }
     Item& item = new_item(Item::Kind::kChunk, chunk.t_end, chunk.origin);
@@ -84,7 +85,8 @@ class ReadAhead::Collector final : public CaptureConsumer {
     if (records_) new_item(Item::Kind::kNoise, t_start, origin).run = batch_.arena.add(bytes);
   }
   void on_end(Nanos t) override { new_item(Item::Kind::kEnd, t, 0); }
-  // A run of one-byte reads at once; the batch has room for its times (run()).
+  // A run of one-byte reads at once, extending the last item where that is a run this one
+  // continues; the batch has room for its times (run()).
   void on_byte_reads(const ByteReads& reads) override {
     const std::size_t n = reads.size();
     if (n == 0) return;
@@ -103,23 +105,6 @@ class ReadAhead::Collector final : public CaptureConsumer {
   }
 
  private:
-  // Extends the last item when it is a run of one-byte reads that this read continues.
-  void add_byte_read(const Chunk& chunk) {
-    if (!batch_.items.empty()) {
-      Item& last = batch_.items.back();
-      if (last.kind == Item::Kind::kByteReads && last.port == chunk.port &&
-          last.origin + last.run.size == chunk.origin) {
-        batch_.arena.extend(last.run, chunk.bytes[0]);
-        batch_.byte_times[batch_.byte_time_count++] = chunk.t_end;
-        return;
-      }
-    }
-    Item& item =
-        new_item(Item::Kind::kByteReads, static_cast<Nanos>(batch_.byte_time_count), chunk.origin);
-    item.port = chunk.port;
-    item.run = batch_.arena.add(chunk.bytes);
-    batch_.byte_times[batch_.byte_time_count++] = chunk.t_end;
-  }
   Item& new_item(Item::Kind kind, Nanos t, std::uint64_t origin) {
     Item& item = batch_.items.emplace_back();
     item.kind = kind;

@@ -40,6 +40,10 @@ struct ByteReads {
   std::uint64_t origin = 0;
   std::uint8_t port = 0;
 
+  // Whether `chunk` is a read such a run holds (one byte, no line error, no start time).
+  [[nodiscard]] static bool holds(const Chunk& chunk) {
+    return chunk.bytes.size() == 1 && chunk.errors.empty() && chunk.t_first_start == kUnknownTime;
+  }
   [[nodiscard]] std::size_t size() const { return bytes.size(); }
   // Read i as the Chunk it stands for.
   [[nodiscard]] Chunk read(std::size_t i) const {

@@ -59,6 +59,16 @@ void Framer::slide_window() {
 void Framer::push(const Chunk& chunk) {
   const std::size_t n = chunk.bytes.size();
   if (n == 0) return;
+  if (n == 1 && ByteReads::holds(chunk) &&
+      push_if_head_waits(chunk.bytes[0], chunk.t_end, chunk.origin)) {
+    return;
+  }
+  push_without_shortcut(chunk);
+}
+
+void Framer::push_without_shortcut(const Chunk& chunk) {
+  const std::size_t n = chunk.bytes.size();
+  if (n == 0) return;
   advance(chunk.t_end);
   ++chunks_;
   if (n > 1) ++batched_chunks_;
@@ -115,7 +125,7 @@ void Framer::push(const Chunk& chunk) {
     if (buffered() >= kMaxPending) [[unlikely]] {
       decide(false);
     }
-    if (!head_still_waits()) decide(false);
+    decide(false);
     return;
   }
   std::size_t i = 0;
@@ -148,23 +158,37 @@ void Framer::push(const Chunk& chunk) {
 
 // Most bytes of a per-byte read bring a frame no nearer to a decision: its head waits for a
 // predicted length (a request's fixed size, a response's byte count) that is not there yet.
-// decide(false) would then run the watches on (none: only the mark moves), find the head's
-// remembered answer, "waits" (quiet_starts.hpp), and look at the new byte for a silence
-// (none: only that mark moves), and wait. Here that is done directly, under exactly those
-// conditions; anything else (a watch, a search to make, a silence, a full window, a head
-// whose answer waits on its CRC search) goes the long way.
-bool Framer::head_still_waits() {
-  const std::size_t n = buffered();
-  if (n < 2 || n >= kMaxPending || quiet_starts_.any_watched()) return false;
-  if (silence_search_from_ != consumed_ + n - 1 || silence_before(info_at(n - 1).gap_before)) {
-    return false;
-  }
-  if (settled_.test(consumed_ % kWindow)) return false;
-  const QuietStart* head = quiet_starts_.find(consumed_, epoch_, consumed_ + n);
+// push() would then find advance() with nothing to do, store the byte, and decide(false)
+// would run the watches on (none: only the mark moves), find the head's remembered answer,
+// "waits" (quiet_starts.hpp), look at the new byte for a silence (none: only that mark
+// moves), and wait. Here that is done directly, under exactly those conditions, all checked
+// before anything changes; anything else (a silence to decide, a watch, a search to make, a
+// silence before the byte, a full window, a head whose answer waits on its CRC search) is
+// left to push().
+bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64_t origin) {
+  if (end_ == kWindow || quiet_starts_.any_watched()) return false;
+  const std::size_t n = buffered() + 1;  // with the new byte
+  if (n < 2 || n >= kMaxPending || last_byte_end_ == kUnknownTime) return false;
+  if (now - last_byte_end_ >= quiet_to_decide()) return false;  // advance() would decide
+  // The new byte's end and the silence before it, as push() times a one-byte read.
+  const Nanos end = std::max(now, last_byte_end_ + char_time_);
+  const Nanos gap = end - char_time_ - last_byte_end_;
+  const std::uint64_t window_end = consumed_ + n;
+  if (silence_search_from_ != window_end - 1 || silence_before(gap)) return false;
+  if (settled_[consumed_ % kWindow]) return false;
+  const QuietStart* head = quiet_starts_.find(consumed_, epoch_, window_end);
   if (head == nullptr || head->watch_crc_scan || !head->pending) return false;
-  quiet_starts_.unwatch_all(consumed_ + n);  // run_quiet_watch_on() with nothing watched
-  answer_may_change_ = head->may_change;     // as the remembered answer sets it
-  silence_search_from_ = consumed_ + n;      // the new byte shows no silence
+
+  ++chunks_;
+  last_read_small_ = true;
+  settled_.reset((window_end - 1) % kWindow);  // a new position, not looked at yet
+  bytes_[end_] = byte;
+  info_[end_] = ByteInfo{end, gap, origin, 1, 0};
+  ++end_;
+  last_byte_end_ = end;
+  quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
+  answer_may_change_ = head->may_change;  // as the remembered answer sets it
+  silence_search_from_ = window_end;      // the new byte shows no silence
   return true;
 }
 
@@ -474,7 +498,7 @@ void Framer::watch(std::size_t pos, const QuietStart& quiet) {
 std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending) {
   const std::uint64_t start = consumed_ + pos;
   const std::size_t slot = start % kWindow;
-  if (settled_.test(slot)) return 0;
+  if (settled_[slot]) return 0;
   if (!at_end) {
     const QuietStart* quiet = quiet_starts_.find(start, epoch_, consumed_ + buffered());
     if (quiet != nullptr && (!quiet->watch_crc_scan || crc_scan_still_quiet(pos))) {

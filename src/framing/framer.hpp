@@ -72,6 +72,13 @@ class Framer {
     }
     decide_after_silence();
   }
+  // push() of a one-byte read (one ByteReads::holds: `byte`, completed at `t_end`) that
+  // brings the head of the window no nearer a decision, where that is known without a
+  // search: then it does what push() would (store the byte, see framer.cpp) and returns
+  // true, and no record comes out. Otherwise it changes nothing and returns false.
+  bool push_if_head_waits(std::uint8_t byte, Nanos t_end, std::uint64_t origin);
+  // push() for a caller that has just seen push_if_head_waits() say false for the read.
+  void push_without_shortcut(const Chunk& chunk);
   // End of input: everything still buffered is emitted.
   void finish();
 
@@ -129,9 +136,6 @@ class Framer {
   [[nodiscard]] bool reads_are_batched() const;
   void decide(bool at_end);
   Verdict decide_head(bool at_end);
-  // decide(false) after a read of one byte, where its answer is known without a search;
-  // then it does what decide(false) would (see framer.cpp) and returns true.
-  bool head_still_waits();
 
   // Length of a CRC-confirmed frame starting at `pos` (0 if none can be confirmed with
   // the bytes buffered now). `pending` is set when a predicted length needs more bytes.

@@ -44,6 +44,15 @@ struct DecodePipeline::Impl {
     return FramerConfig{options.line, std::max<Nanos>(options.timing_resolution, 0),
                         options.per_byte_timing, options.learn_resolution};
   }
+  // How far the line is decided at `now`, when nothing was read before it (see idle()).
+  [[nodiscard]] Nanos decided_until(Nanos now) const {
+    Nanos decided = now;
+    for (const auto& framer : framers) {
+      decided = std::min(decided, framer->earliest_unread_start(now));
+    }
+    const Nanos oldest = merge.oldest_pending_start();
+    return oldest != kUnknownTime ? std::min(decided, oldest) : decided;
+  }
   void add_port() {
     outputs.push_back(std::make_unique<PortOutput>(merge, framers.size()));
     framers.push_back(std::make_unique<Framer>(framer_config(), *outputs.back()));
@@ -117,7 +126,36 @@ void DecodePipeline::push_byte_reads(const ByteReads& reads) {
   if (!impl_->started) start_as_configured();
   if (reads.size() == 0) return;
   Framer& framer = impl_->framer_for(reads.port);
-  for (std::size_t i = 0; i < reads.size(); ++i) push_read(framer, reads.read(i));
+  if (impl_->framers.size() > 1) {
+    for (std::size_t i = 0; i < reads.size(); ++i) push_read(framer, reads.read(i));
+    return;
+  }
+  // One port: most reads of a run only add a byte to a frame whose head waits for more
+  // (Framer::push_if_head_waits). Such a read emits no record, so the idle() before it
+  // only moves the decided time on, and a later move, with no record between, covers it
+  // (a request times out once the decided time passes its deadline). So that move is made
+  // once, for the last such read, before the next read that may emit (whose own idle()
+  // then comes after it, as it would have) or at the run's end.
+  // The latest time such a read brought is kept (times that go backwards move nothing).
+  bool waited = false;
+  Nanos latest_waited = 0;
+  const auto catch_up = [&] {
+    if (waited) impl_->pairing.advance(impl_->decided_until(latest_waited));
+    waited = false;
+  };
+  for (std::size_t i = 0; i < reads.size(); ++i) {
+    const Nanos t_end = reads.t_ends[i];
+    if (framer.push_if_head_waits(reads.bytes[i], t_end, reads.origin + i)) {
+      latest_waited = waited ? std::max(latest_waited, t_end) : t_end;
+      waited = true;
+      continue;
+    }
+    catch_up();
+    // push_read() without the merge, which holds nothing with one port.
+    idle(t_end);
+    framer.push_without_shortcut(reads.read(i));
+  }
+  catch_up();
 }
 
 void DecodePipeline::push_read(Framer& framer, const Chunk& chunk) {
@@ -253,14 +291,8 @@ void DecodePipeline::idle(Nanos now) {
   // a framer or the merge still holds, or one made of bytes an adapter still holds (read
   // later, but stamped back to when they were on the wire). Deciding later than that is
   // what makes the verdict the same as the replay's, which sees no idle moments.
-  Nanos decided_until = now;
-  for (auto& framer : impl_->framers) {
-    framer->advance(now);
-    decided_until = std::min(decided_until, framer->earliest_unread_start(now));
-  }
-  const Nanos oldest = impl_->merge.oldest_pending_start();
-  if (oldest != kUnknownTime) decided_until = std::min(decided_until, oldest);
-  impl_->pairing.advance(decided_until);
+  for (auto& framer : impl_->framers) framer->advance(now);
+  impl_->pairing.advance(impl_->decided_until(now));
 }
 
 bool DecodePipeline::awaits_idle() const {

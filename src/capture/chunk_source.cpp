@@ -24,6 +24,28 @@ bool ChunkSource::read_many(CaptureConsumer& to, std::size_t max_reads) {
   for (;;) {
     bool more = false;
     try {
+      std::uint64_t origin = 0;
+      const std::size_t got =
+          next_byte_reads(run_bytes_.get() + size, run_times_.get() + size, limit - reads, origin);
+      if (got > 0) {
+        if (size > 0 && (run.port != 0 || origin != run.origin + size)) {
+          // Not the run's next reads: the run goes first, and they start the next one.
+          const std::size_t before = size;
+          deliver_run();
+          std::copy_n(run_bytes_.get() + before, got, run_bytes_.get());
+          std::copy_n(run_times_.get() + before, got, run_times_.get());
+        }
+        if (size == 0) {
+          run.origin = origin;
+          run.port = 0;
+        }
+        size += got;
+        reads += got;
+        if (reads == limit) {
+          deliver_run();
+          return true;
+        }
+      }
       more = next(chunk_);
     } catch (...) {
       deliver_run();  // everything before the damage first

@@ -27,6 +27,18 @@ class ChunkSource : public CaptureReader {
   // after `max_reads` reads, or at the end or the damage.
   bool read_many(CaptureConsumer& to, std::size_t max_reads) final;
 
+ protected:
+  // For read_many(), from a reader that can produce one-byte reads for less than a next()
+  // each: the reads that come next, up to `room` of them, as long as each is one byte (no
+  // line error, no start time, port 0) from the origin after the one before, the first from
+  // `first_origin`; their bytes and end times go to `bytes` and `t_ends`. Returns how many;
+  // 0 (the default) leaves the next read to next(). Throws as next() does.
+  virtual std::size_t next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
+                                      std::uint64_t& first_origin) {
+    (void)bytes, (void)t_ends, (void)room, (void)first_origin;
+    return 0;
+  }
+
  private:
   Chunk chunk_;
   bool at_end_ = false;  // next() said so during read_many(), after a run was delivered

@@ -83,6 +83,24 @@ bool TextHexReader::next(Chunk& out) {
   return true;
 }
 
+std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
+                                           std::uint64_t& first_origin) {
+  if (have_pending_) return 0;
+  std::size_t got = 0;
+  // Plain lines follow one another with nothing between, so their origins (line numbers) do.
+  while (got < room && read_plain_data_line()) {
+    if (byte_count_ != 1) {
+      have_pending_ = true;  // a read of several bytes: next() gives it
+      break;
+    }
+    if (got == 0) first_origin = pending_line_;
+    bytes[got] = bytes_[0];
+    t_ends[got] = pending_t_;
+    ++got;
+  }
+  return got;
+}
+
 bool TextHexReader::read_data_line() {
   std::string_view line;
   while (lines_.next(line)) {

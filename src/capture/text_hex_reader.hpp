@@ -54,6 +54,11 @@ class TextHexReader final : public ChunkSource {
   [[nodiscard]] std::uint64_t bytes_read() const override { return lines_.bytes_read(); }
   [[nodiscard]] std::uint64_t input_size() const override { return lines_.size(); }
 
+ protected:
+  // Plain data lines of one byte each, parsed straight into the run (read_plain_data_line).
+  std::size_t next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
+                              std::uint64_t& first_origin) override;
+
  private:
   struct PartialSettings {
     std::optional<std::uint32_t> baud;

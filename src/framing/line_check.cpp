@@ -124,21 +124,12 @@ void LineCheck::add(const Chunk& chunk) {
   }
   // Logic analysers give each byte's start; per-byte reads give its end. Either way the
   // difference between consecutive bytes is their spacing.
-  const Nanos t = chunk.t_first_start != kUnknownTime ? chunk.t_first_start : chunk.t_end;
-  if (last_ != kUnknownTime && t >= last_) {
-    // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
-    const Nanos top = kNanosPerSecond * 4;
-    const Nanos spacing = std::min(t - last_, top);
-    if (spacing != memo_spacing_) {
-      memo_spacing_ = spacing;
-      memo_bucket_ = bucket_of(spacing);
-    }
-    const std::size_t b = memo_bucket_;
-    ++counts_[b];
-    sums_[b] += static_cast<std::uint64_t>(spacing);
-    ++spacings_;
-  }
-  last_ = t;
+  add_single_byte(chunk.t_first_start != kUnknownTime ? chunk.t_first_start : chunk.t_end);
+}
+
+void LineCheck::add(const ByteReads& reads) {
+  chunks_ += reads.size();
+  for (std::size_t i = 0; i < reads.size(); ++i) add_single_byte(reads.t_ends[i]);
 }
 
 std::optional<Nanos> LineCheck::byte_spacing(Nanos precision) const {

@@ -15,6 +15,7 @@
 //
 // Memory is fixed: spacings go into a logarithmic histogram fine enough (about 1.5% a bucket)
 // to tell standard baud rates apart, so the first pass over a huge capture stays cheap.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -37,6 +38,8 @@ struct InferredLine {
 class LineCheck {
  public:
   void add(const Chunk& chunk);
+  // add() of each read, in one loop.
+  void add(const ByteReads& reads);
 
   // Spacing of back-to-back bytes as measured (the mean of the densest cluster of spacings),
   // when the capture has per-byte timing, enough bytes, and a clear cluster; else nullopt.
@@ -63,6 +66,22 @@ class LineCheck {
     std::uint64_t count = 0;
   };
   [[nodiscard]] std::optional<Cluster> densest_cluster(Nanos precision) const;
+  // A single-byte read (or a byte whose start was measured) at `t`.
+  void add_single_byte(Nanos t) {
+    if (last_ != kUnknownTime && t >= last_) {
+      // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
+      const Nanos top = kNanosPerSecond * 4;
+      const Nanos spacing = std::min(t - last_, top);
+      if (spacing != memo_spacing_) {
+        memo_spacing_ = spacing;
+        memo_bucket_ = bucket_of(spacing);
+      }
+      ++counts_[memo_bucket_];
+      sums_[memo_bucket_] += static_cast<std::uint64_t>(spacing);
+      ++spacings_;
+    }
+    last_ = t;
+  }
 
   std::array<std::uint64_t, kBuckets> counts_{};
   std::array<std::uint64_t, kBuckets> sums_{};  // ns, for the exact mean of a cluster

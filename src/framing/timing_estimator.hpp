@@ -28,6 +28,12 @@ inline constexpr Nanos kMaxDeliveryPeriod = 64 * kNanosPerMilli;
 class TimingEstimator {
  public:
   void add(const Chunk& chunk);
+  // add() of each read: single bytes, which only count.
+  void add(const ByteReads& reads) {
+    if (reads.size() == 0) return;
+    chunks_ += reads.size();
+    last_t_ = reads.t_ends[reads.size() - 1];
+  }
   // `precision`: the step the timestamps are written with (0 = unknown).
   [[nodiscard]] Nanos resolution(Nanos precision) const;
   [[nodiscard]] bool mostly_single_bytes() const;

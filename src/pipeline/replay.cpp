@@ -29,7 +29,9 @@ class Survey final : public CaptureConsumer {
  public:
   void on_chunk(const Chunk& chunk) override { add(chunk); }
   void on_byte_reads(const ByteReads& reads) override {
-    for (std::size_t i = 0; i < reads.size(); ++i) add(reads.read(i));
+    chunks += reads.size();
+    estimator.add(reads);
+    line_check.add(reads);
   }
   void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
                 std::uint64_t /*origin*/) override {}

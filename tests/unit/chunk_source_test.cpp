@@ -77,5 +77,78 @@ TEST(ChunkSource, ReadManyGivesTheReadsOfReadWhateverItsRoom) {
   EXPECT_EQ(damaged.reads_in_runs, clean.reads_in_runs);
 }
 
+// A source whose reads are scripted: one-byte reads whose origins jump now and then, and
+// longer reads. It hands one-byte reads over through next_byte_reads() as far as their
+// origins follow one another, so a call can begin where the run before it cannot go on.
+class ScriptedSource final : public ChunkSource {
+ public:
+  struct Read {
+    std::vector<std::uint8_t> bytes;
+    Nanos t_end = 0;
+    std::uint64_t origin = 0;
+  };
+  explicit ScriptedSource(std::vector<Read> reads) : reads_(std::move(reads)) {}
+
+  bool next(Chunk& out) override {
+    if (at_ == reads_.size()) return false;
+    const Read& read = reads_[at_++];
+    out = Chunk{};
+    out.t_end = read.t_end;
+    out.bytes = read.bytes;
+    out.origin = read.origin;
+    return true;
+  }
+  [[nodiscard]] std::string name() const override { return "scripted"; }
+
+ protected:
+  std::size_t next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
+                              std::uint64_t& first_origin) override {
+    std::size_t got = 0;
+    while (got < room && at_ < reads_.size() && reads_[at_].bytes.size() == 1) {
+      const Read& read = reads_[at_];
+      if (got > 0 && read.origin != first_origin + got) break;
+      if (got == 0) first_origin = read.origin;
+      bytes[got] = read.bytes[0];
+      t_ends[got] = read.t_end;
+      ++got;
+      ++at_;
+    }
+    return got;
+  }
+
+ private:
+  std::vector<Read> reads_;
+  std::size_t at_ = 0;
+};
+
+TEST(ChunkSource, RunsEndWhereTheReadsAReaderHandsOverDoNotFollowOn) {
+  std::vector<ScriptedSource::Read> script;
+  std::uint64_t origin = 1;
+  for (int i = 0; i < 500; ++i) {
+    // Lines between (comments, say), now and then two such jumps in a row: a reader's run
+    // can then begin with a jump right after the read that next() gave.
+    origin += i % 37 == 11 || i % 37 == 12 || i % 53 == 20 ? 3 : 1;
+    if (i % 101 == 50) {
+      script.push_back({{0x01, 0x02}, i * 1000, origin});
+    } else {
+      script.push_back({{static_cast<std::uint8_t>(i)}, i * 1000, origin});
+    }
+  }
+  ScriptedSource one_by_one(script);
+  ItemTranscript expected;
+  while (one_by_one.read(expected)) {
+  }
+  ASSERT_EQ(expected.lines.size(), script.size());
+  for (const std::size_t room : {1U, 2U, 5U, 64U, 4096U}) {
+    SCOPED_TRACE(room);
+    ScriptedSource source(script);
+    ItemTranscript got;
+    while (source.read_many(got, room)) {
+    }
+    EXPECT_EQ(got.lines, expected.lines);
+    if (room >= 5) EXPECT_LT(got.runs, script.size() / 2);
+  }
+}
+
 }  // namespace
 }  // namespace rtu

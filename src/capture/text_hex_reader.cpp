@@ -88,13 +88,30 @@ std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, s
   if (have_pending_) return 0;
   std::size_t got = 0;
   // Plain lines follow one another with nothing between, so their origins (line numbers) do.
-  while (got < room && read_plain_data_line()) {
-    if (byte_count_ != 1) {
-      have_pending_ = true;  // a read of several bytes: next() gives it
-      break;
+  while (got < room) {
+    // Nearly every line of a per-byte capture is "<plain seconds> hh\n": read at once here.
+    // Any other line goes to read_plain_data_line(), which leaves to next() what it cannot read.
+    const std::string_view text = lines_.buffered();
+    Nanos ns = 0;
+    int decimals = 0;
+    const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
+    const char* const p = text.data() + stamp_length;
+    const int value =
+        stamp_length > 0 && text.size() - stamp_length >= 4 && p[0] == ' ' && p[3] == '\n'
+            ? hex_pair_value(p + 1)
+            : -1;
+    if (value >= 0) {
+      take_plain_line(stamp_length + 4, text.substr(0, stamp_length), ns, decimals);
+      bytes[got] = static_cast<std::uint8_t>(value);
+    } else {
+      if (!read_plain_data_line()) break;
+      if (byte_count_ != 1) {
+        have_pending_ = true;  // a read of several bytes: next() gives it
+        break;
+      }
+      bytes[got] = bytes_[0];
     }
     if (got == 0) first_origin = pending_line_;
-    bytes[got] = bytes_[0];
     t_ends[got] = pending_t_;
     ++got;
   }
@@ -156,12 +173,17 @@ bool TextHexReader::read_plain_data_line() {
   if (count == 0) return false;
   byte_count_ = count;
   const std::size_t line_end = static_cast<std::size_t>(p - text.data()) + (p[0] == '\r' ? 2 : 1);
-  lines_.take_line(line_end);
+  take_plain_line(line_end, text.substr(0, stamp_length), ns, decimals);
+  return true;
+}
+
+void TextHexReader::take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
+                                    int decimals) {
+  lines_.take_line(length);
   if (decimals > max_decimals_) max_decimals_ = decimals;
   pending_line_ = lines_.line_number();
-  pending_t_ = clamp_.admit(ns, text.substr(0, stamp_length), pending_line_);
+  pending_t_ = clamp_.admit(ns, stamp, pending_line_);
   seen_data_ = true;
-  return true;
 }
 
 void TextHexReader::parse_data(std::string_view line, std::size_t start) {

@@ -97,10 +97,14 @@ CaptureRead read_and_check(const ReaderFactory& open, const std::string& name,
   try {
     reader = open(check_warning);
     CheckingConsumer consumer(rules, out);
-    while (reader->read(consumer)) {
+    const auto read = [&] {
+      return rules.read_many_room == 0 ? reader->read(consumer)
+                                       : reader->read_many(consumer, rules.read_many_room);
+    };
+    while (read()) {
     }
     // The end is sticky.
-    if (reader->read(consumer)) fail(rules.target, "item delivered after the end", "");
+    if (read()) fail(rules.target, "item delivered after the end", "");
   } catch (const InputError& e) {
     if (rules.origins_are_lines) {
       require_line(rules.target, e.what(), name, lines);

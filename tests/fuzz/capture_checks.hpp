@@ -27,6 +27,9 @@ struct CaptureRules {
   bool per_byte_exact = false;
   bool times_in_order = false;    // the reader clamps backward times
   bool origins_are_lines = true;  // and errors name lines; else byte offsets
+  // Read with read_many() and this room when not 0 (as a replay's reading thread reads),
+  // else with read().
+  std::size_t read_many_room = 0;
 };
 
 struct CaptureItem {

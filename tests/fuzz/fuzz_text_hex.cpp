@@ -9,7 +9,9 @@
 //   and `export` read a per-byte text capture with a "# baud=..." line;
 // - the reading of data lines in place in the line buffer: the same text with a blank before
 //   every line (which that reading refuses, so every line is read line by line) gives the
-//   same items, and fails where the original fails.
+//   same items, and fails where the original fails;
+// - read_many(), which parses one-byte lines straight into runs: the same items as read()
+//   at a room of a few reads and of a whole run.
 #include <cstddef>
 #include <cstdint>
 #include <exception>
@@ -96,6 +98,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                     std::to_string(sink.bytes) + " of " + std::to_string(bytes_read));
   }
   rtu::fuzz::check_one_read(kTarget, open, options, sink, surveyed_info);
+
+  for (const std::size_t room : {std::size_t{1} + size % 5, std::size_t{4096}}) {
+    rtu::fuzz::CaptureRules many = rules;
+    many.read_many_room = room;
+    if (!same_items(read, rtu::fuzz::read_and_check(open, path, many))) {
+      rtu::fuzz::fail(kTarget, "read_many() and read() disagree", std::to_string(room));
+    }
+  }
 
   const std::string line_by_line = blank_before_every_line(text);
   file.write(reinterpret_cast<const std::uint8_t*>(line_by_line.data()), line_by_line.size());

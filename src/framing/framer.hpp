@@ -74,8 +74,9 @@ class Framer {
   }
   // push() of a one-byte read (one ByteReads::holds: `byte`, completed at `t_end`) that
   // brings the head of the window no nearer a decision, where that is known without a
-  // search: then it does what push() would (store the byte, see framer.cpp) and returns
-  // true, and no record comes out. Otherwise it changes nothing and returns false.
+  // search: then it does what push() would (store the byte, see below) and returns true,
+  // and no record comes out. Otherwise it changes nothing and returns false. Inline: asked
+  // at every read of a per-byte capture.
   bool push_if_head_waits(std::uint8_t byte, Nanos t_end, std::uint64_t origin);
   // push() for a caller that has just seen push_if_head_waits() say false for the read.
   void push_without_shortcut(const Chunk& chunk);
@@ -171,7 +172,7 @@ class Framer {
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
-  bool silence_before(Nanos gap) const;
+  [[nodiscard]] bool silence_before(Nanos gap) const { return gap >= t3_5_ + resolution_; }
   CrcScan& extended_scan(std::size_t pos) const;
   void run_crc_on(std::size_t pos, CrcScan& scan, std::size_t limit) const;
   [[gnu::noinline]] void extend_scan_otherwise(std::size_t pos, CrcScan& scan,
@@ -251,5 +252,41 @@ class Framer {
   std::uint8_t expected_slave_ = 0;
   std::uint8_t expected_function_ = 0;
 };
+
+// Most bytes of a per-byte read bring a frame no nearer to a decision: its head waits for a
+// predicted length (a request's fixed size, a response's byte count) that is not there yet.
+// push() would then find advance() with nothing to do, store the byte, and decide(false)
+// would run the watches on (none: only the mark moves), find the head's remembered answer,
+// "waits" (quiet_starts.hpp), look at the new byte for a silence (none: only that mark
+// moves), and wait. Here that is done directly, under exactly those conditions, all checked
+// before anything changes; anything else (a silence to decide, a watch, a search to make, a
+// silence before the byte, a full window, a head whose answer waits on its CRC search) is
+// left to push().
+inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64_t origin) {
+  if (end_ == kWindow || quiet_starts_.any_watched()) return false;
+  const std::size_t n = buffered() + 1;  // with the new byte
+  if (n < 2 || n >= kMaxPending || last_byte_end_ == kUnknownTime) return false;
+  if (now - last_byte_end_ >= quiet_to_decide()) return false;  // advance() would decide
+  // The new byte's end and the silence before it, as push() times a one-byte read.
+  const Nanos end = std::max(now, last_byte_end_ + char_time_);
+  const Nanos gap = end - char_time_ - last_byte_end_;
+  const std::uint64_t window_end = consumed_ + n;
+  if (silence_search_from_ != window_end - 1 || silence_before(gap)) return false;
+  if (settled_[consumed_ % kWindow]) return false;
+  const QuietStart* head = quiet_starts_.find(consumed_, epoch_, window_end);
+  if (head == nullptr || head->watch_crc_scan || !head->pending) return false;
+
+  ++chunks_;
+  last_read_small_ = true;
+  settled_.reset((window_end - 1) % kWindow);  // a new position, not looked at yet
+  bytes_[end_] = byte;
+  info_[end_] = ByteInfo{end, gap, origin, 1, 0};
+  ++end_;
+  last_byte_end_ = end;
+  quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
+  answer_may_change_ = head->may_change;  // as the remembered answer sets it
+  silence_search_from_ = window_end;      // the new byte shows no silence
+  return true;
+}
 
 }  // namespace rtu

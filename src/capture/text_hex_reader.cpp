@@ -69,78 +69,18 @@ void TextHexReader::fail(std::size_t column0, std::string_view what) const {
       fmt::format("{}:{}:{}: {}", lines_.name(), lines_.line_number(), column0 + 1, what));
 }
 
-bool TextHexReader::next(Chunk& out) {
-  if (have_pending_) {
-    have_pending_ = false;
-  } else if (!read_plain_data_line() && !read_data_line()) {
-    return false;
-  }
-  out.t_end = pending_t_;
-  out.t_first_start = kUnknownTime;
-  out.bytes = std::span<const std::uint8_t>(bytes_.data(), byte_count_);
-  out.errors = {};
-  out.origin = pending_line_;
-  return true;
+inline void TextHexReader::take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
+                                           int decimals) {
+  lines_.take_line(length);
+  if (decimals > max_decimals_) max_decimals_ = decimals;
+  pending_line_ = lines_.line_number();
+  pending_t_ = clamp_.admit(ns, stamp, pending_line_);
+  seen_data_ = true;
 }
 
-std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
-                                           std::uint64_t& first_origin) {
-  if (have_pending_) return 0;
-  std::size_t got = 0;
-  // Plain lines follow one another with nothing between, so their origins (line numbers) do.
-  while (got < room) {
-    // Nearly every line of a per-byte capture is "<plain seconds> hh\n": read at once here.
-    // Any other line goes to read_plain_data_line(), which leaves to next() what it cannot read.
-    const std::string_view text = lines_.buffered();
-    Nanos ns = 0;
-    int decimals = 0;
-    const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
-    const char* const p = text.data() + stamp_length;
-    const int value =
-        stamp_length > 0 && text.size() - stamp_length >= 4 && p[0] == ' ' && p[3] == '\n'
-            ? hex_pair_value(p + 1)
-            : -1;
-    if (value >= 0) {
-      take_plain_line(stamp_length + 4, text.substr(0, stamp_length), ns, decimals);
-      bytes[got] = static_cast<std::uint8_t>(value);
-    } else {
-      if (!read_plain_data_line()) break;
-      if (byte_count_ != 1) {
-        have_pending_ = true;  // a read of several bytes: next() gives it
-        break;
-      }
-      bytes[got] = bytes_[0];
-    }
-    if (got == 0) first_origin = pending_line_;
-    t_ends[got] = pending_t_;
-    ++got;
-  }
-  return got;
-}
-
-bool TextHexReader::read_data_line() {
-  std::string_view line;
-  while (lines_.next(line)) {
-    const std::size_t start = skip_blanks(line, 0);
-    if (start == line.size()) continue;
-    if (line[start] == '#') {
-      parse_comment(line, start);
-      continue;
-    }
-    parse_data(line, start);
-    seen_data_ = true;
-    return true;
-  }
-  clamp_.finish();
-  return false;
-}
-
-bool TextHexReader::read_plain_data_line() {
-  const std::string_view text = lines_.buffered();
-  Nanos ns = 0;
-  int decimals = 0;
-  const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
-  if (stamp_length == 0) return false;
+inline bool TextHexReader::read_plain_data_after_stamp(std::string_view text,
+                                                       std::size_t stamp_length, Nanos ns,
+                                                       int decimals) {
   const char* p = text.data() + stamp_length;
   const char* const end = text.data() + text.size();
   if (p == end || !is_blank(*p)) return false;
@@ -177,13 +117,81 @@ bool TextHexReader::read_plain_data_line() {
   return true;
 }
 
-void TextHexReader::take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
-                                    int decimals) {
-  lines_.take_line(length);
-  if (decimals > max_decimals_) max_decimals_ = decimals;
-  pending_line_ = lines_.line_number();
-  pending_t_ = clamp_.admit(ns, stamp, pending_line_);
-  seen_data_ = true;
+bool TextHexReader::next(Chunk& out) {
+  if (have_pending_) {
+    have_pending_ = false;
+  } else if (!read_plain_data_line() && !read_data_line()) {
+    return false;
+  }
+  out.t_end = pending_t_;
+  out.t_first_start = kUnknownTime;
+  out.bytes = std::span<const std::uint8_t>(bytes_.data(), byte_count_);
+  out.errors = {};
+  out.origin = pending_line_;
+  return true;
+}
+
+std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
+                                           std::uint64_t& first_origin) {
+  if (have_pending_) return 0;
+  std::size_t got = 0;
+  // Plain lines follow one another with nothing between, so their origins (line numbers) do.
+  while (got < room) {
+    // Nearly every line of a per-byte capture is "<plain seconds> hh\n": read at once here.
+    // Any other line goes to the general plain-line reading, which leaves to next() what it
+    // cannot read.
+    const std::string_view text = lines_.buffered();
+    Nanos ns = 0;
+    int decimals = 0;
+    const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
+    const char* const p = text.data() + stamp_length;
+    const int value =
+        stamp_length > 0 && text.size() - stamp_length >= 4 && p[0] == ' ' && p[3] == '\n'
+            ? hex_pair_value(p + 1)
+            : -1;
+    if (value >= 0) {
+      take_plain_line(stamp_length + 4, text.substr(0, stamp_length), ns, decimals);
+      bytes[got] = static_cast<std::uint8_t>(value);
+    } else {
+      if (stamp_length == 0 || !read_plain_data_after_stamp(text, stamp_length, ns, decimals)) {
+        break;
+      }
+      if (byte_count_ != 1) {
+        have_pending_ = true;  // a read of several bytes: next() gives it
+        break;
+      }
+      bytes[got] = bytes_[0];
+    }
+    if (got == 0) first_origin = pending_line_;
+    t_ends[got] = pending_t_;
+    ++got;
+  }
+  return got;
+}
+
+bool TextHexReader::read_data_line() {
+  std::string_view line;
+  while (lines_.next(line)) {
+    const std::size_t start = skip_blanks(line, 0);
+    if (start == line.size()) continue;
+    if (line[start] == '#') {
+      parse_comment(line, start);
+      continue;
+    }
+    parse_data(line, start);
+    seen_data_ = true;
+    return true;
+  }
+  clamp_.finish();
+  return false;
+}
+
+bool TextHexReader::read_plain_data_line() {
+  const std::string_view text = lines_.buffered();
+  Nanos ns = 0;
+  int decimals = 0;
+  const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
+  return stamp_length > 0 && read_plain_data_after_stamp(text, stamp_length, ns, decimals);
 }
 
 void TextHexReader::parse_data(std::string_view line, std::size_t start) {

@@ -72,9 +72,15 @@ class TextHexReader final : public ChunkSource {
   // False, with nothing consumed, for any other line (comments, errors, a line that runs past
   // the buffer): read_data_line() then reads it line by line, and gives the same chunk.
   bool read_plain_data_line();
+  // The same, once the stamp at the start of `text` (the buffered text) was read. Always
+  // inline, as the next one: each is the body of a line's reading, not worth a call.
+  [[gnu::always_inline]] bool read_plain_data_after_stamp(std::string_view text,
+                                                          std::size_t stamp_length, Nanos ns,
+                                                          int decimals);
   // Consumes the plain data line of `length` characters just parsed (stamp, its value, its
   // decimals), as its data line.
-  void take_plain_line(std::size_t length, std::string_view stamp, Nanos ns, int decimals);
+  [[gnu::always_inline]] void take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
+                                              int decimals);
   void parse_comment(std::string_view line, std::size_t hash_pos);
   void parse_data(std::string_view line, std::size_t start);
   [[noreturn]] void fail(std::size_t column0, std::string_view what) const;

@@ -56,16 +56,6 @@ void Framer::slide_window() {
   end_ = n;
 }
 
-void Framer::push(const Chunk& chunk) {
-  const std::size_t n = chunk.bytes.size();
-  if (n == 0) return;
-  if (n == 1 && ByteReads::holds(chunk) &&
-      push_if_head_waits(chunk.bytes[0], chunk.t_end, chunk.origin)) {
-    return;
-  }
-  push_without_shortcut(chunk);
-}
-
 void Framer::push_without_shortcut(const Chunk& chunk) {
   const std::size_t n = chunk.bytes.size();
   if (n == 0) return;

@@ -58,7 +58,13 @@ class Framer {
   Framer(const FramerConfig& config, RecordSink& out);
 
   // A read: first advance(chunk.t_end) (nothing was read before it), then its bytes.
-  void push(const Chunk& chunk);
+  void push(const Chunk& chunk) {
+    if (chunk.bytes.size() == 1 && ByteReads::holds(chunk) &&
+        push_if_head_waits(chunk.bytes[0], chunk.t_end, chunk.origin)) {
+      return;
+    }
+    push_without_shortcut(chunk);
+  }
   // No read completed before `now`. Once that is t3.5 plus the resolution (at least
   // kDeliveryPatience) after the last byte, what is buffered is decided as complete.
   // push() calls it with each read's time, and a live capture calls it while the line is

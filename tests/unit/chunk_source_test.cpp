@@ -127,7 +127,7 @@ TEST(ChunkSource, RunsEndWhereTheReadsAReaderHandsOverDoNotFollowOn) {
   for (int i = 0; i < 500; ++i) {
     // Lines between (comments, say), now and then two such jumps in a row: a reader's run
     // can then begin with a jump right after the read that next() gave.
-    origin += i % 37 == 11 || i % 37 == 12 || i % 53 == 20 ? 3 : 1;
+    origin += i % 37 == 11 || i % 37 == 12 || i % 53 == 20 ? 3U : 1U;
     if (i % 101 == 50) {
       script.push_back({{0x01, 0x02}, i * 1000, origin});
     } else {
@@ -146,7 +146,9 @@ TEST(ChunkSource, RunsEndWhereTheReadsAReaderHandsOverDoNotFollowOn) {
     while (source.read_many(got, room)) {
     }
     EXPECT_EQ(got.lines, expected.lines);
-    if (room >= 5) EXPECT_LT(got.runs, script.size() / 2);
+    if (room >= 5) {
+      EXPECT_LT(got.runs, script.size() / 2);
+    }
   }
 }
 

@@ -138,6 +138,8 @@ class Framer {
   }
   [[nodiscard]] Nanos quiet_to_decide() const { return t3_5_ + delivery_allowance(); }
   void decide_after_silence();  // advance() once the line was quiet long enough
+  void store_waiting_byte(std::uint8_t byte, Nanos end, Nanos gap, std::uint64_t origin,
+                          std::uint64_t window_end);
   void slide_window();
   void learn_from(std::size_t length);
   [[nodiscard]] bool reads_are_batched() const;
@@ -268,20 +270,41 @@ class Framer {
 // before anything changes; anything else (a silence to decide, a watch, a search to make, a
 // silence before the byte, a full window, a head whose answer waits on its CRC search) is
 // left to push().
+// A frame's first byte, into an empty window, is taken too: advance() has nothing to decide
+// (unless noise is held), and decide(false) would run the watches on, search at the head
+// (one byte, too short for any frame: it waits, and the search remembers that) and find no
+// position after it to look at for a silence.
 inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64_t origin) {
   if (end_ == kWindow || quiet_starts_.any_watched()) return false;
   const std::size_t n = buffered() + 1;  // with the new byte
-  if (n < 2 || n >= kMaxPending || last_byte_end_ == kUnknownTime) return false;
-  if (now - last_byte_end_ >= quiet_to_decide()) return false;  // advance() would decide
+  if (n >= kMaxPending || last_byte_end_ == kUnknownTime) return false;
   // The new byte's end and the silence before it, as push() times a one-byte read.
   const Nanos end = std::max(now, last_byte_end_ + char_time_);
   const Nanos gap = end - char_time_ - last_byte_end_;
   const std::uint64_t window_end = consumed_ + n;
+  if (n == 1) {
+    if (noise_.size != 0) return false;  // advance() may end the noise
+    store_waiting_byte(byte, end, gap, origin, window_end);
+    bool pending = false;
+    settled_or_confirmed_length(0, false, &pending);  // fewer bytes than a frame: 0, pending
+    silence_search_from_ = std::max(silence_search_from_, window_end);
+    return true;
+  }
+  if (now - last_byte_end_ >= quiet_to_decide()) return false;  // advance() would decide
   if (silence_search_from_ != window_end - 1 || silence_before(gap)) return false;
   if (settled_[consumed_ % kWindow]) return false;
   const QuietStart* head = quiet_starts_.find(consumed_, epoch_, window_end);
   if (head == nullptr || head->watch_crc_scan || !head->pending) return false;
 
+  store_waiting_byte(byte, end, gap, origin, window_end);
+  answer_may_change_ = head->may_change;  // as the remembered answer sets it
+  silence_search_from_ = window_end;      // the new byte shows no silence
+  return true;
+}
+
+// What push() does with a one-byte read before the decision that leaves the head waiting.
+inline void Framer::store_waiting_byte(std::uint8_t byte, Nanos end, Nanos gap,
+                                       std::uint64_t origin, std::uint64_t window_end) {
   ++chunks_;
   last_read_small_ = true;
   settled_.reset((window_end - 1) % kWindow);  // a new position, not looked at yet
@@ -290,9 +313,6 @@ inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64
   ++end_;
   last_byte_end_ = end;
   quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
-  answer_may_change_ = head->may_change;  // as the remembered answer sets it
-  silence_search_from_ = window_end;      // the new byte shows no silence
-  return true;
 }
 
 }  // namespace rtu

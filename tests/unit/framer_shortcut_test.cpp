@@ -1,0 +1,153 @@
+// Framer::push_if_head_waits() takes a one-byte read without the search push() makes for it,
+// where that search is known to leave the head waiting. It must change nothing: read by
+// read, a framer that takes the shortcut wherever it can and one that never does must give
+// the same records, hold bytes from the same moment and be ready to decide at the same one.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bus_builder.hpp"
+#include "framing/framer.hpp"
+
+namespace rtu {
+namespace {
+
+using test::BusBuilder;
+using test::CollectingSink;
+using test::with_crc;
+
+constexpr Nanos kMs = kNanosPerMilli;
+
+// Polling with what a sick bus adds: turnaround glitches right after frames and after
+// silences, junk, frames back to back, a frame cut by a pause, unanswered requests.
+BusBuilder sick_polling(std::uint32_t seed) {
+  std::mt19937 random(seed);
+  BusBuilder bus;
+  const Nanos ch = bus.line().char_time();
+  const auto silence = [&] {
+    const Nanos choices[] = {0, ch / 2, 2 * ch, 5 * ch, 3 * kMs, 20 * kMs};
+    return choices[random() % 6];
+  };
+  for (int i = 0; i < 300; ++i) {
+    const auto slave = static_cast<std::uint8_t>(1 + random() % 3);
+    const auto count = static_cast<std::uint8_t>(1 + random() % 8);
+    bus.add(with_crc({slave, 3, 0, 0x10, 0, count}), i % 7 == 0 ? silence() : 4 * kMs);
+    if (random() % 5 == 0)
+      bus.add({random() % 2 == 0 ? std::uint8_t{0x00} : std::uint8_t{0xFF}}, 0);
+    if (random() % 9 == 0) continue;  // unanswered
+    std::vector<std::uint8_t> response = {slave, 3, static_cast<std::uint8_t>(2 * count)};
+    for (int k = 0; k < 2 * count; ++k) response.push_back(static_cast<std::uint8_t>(random()));
+    const std::uint16_t crc = crc16(response);
+    response.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+    response.push_back(static_cast<std::uint8_t>(crc >> 8U));
+    if (random() % 11 == 0) response[random() % response.size()] ^= 0x04;  // damaged
+    if (random() % 13 == 0) {
+      // Cut by a pause longer than t3.5: two pieces.
+      const std::size_t cut = 1 + random() % (response.size() - 1);
+      bus.add({response.begin(), response.begin() + static_cast<std::ptrdiff_t>(cut)}, 2 * kMs);
+      bus.add({response.begin() + static_cast<std::ptrdiff_t>(cut), response.end()}, 6 * kMs);
+    } else {
+      bus.add(response, random() % 6 == 0 ? silence() : 2 * kMs);
+    }
+    if (random() % 6 == 0) {
+      std::vector<std::uint8_t> junk(1 + random() % 5);
+      for (auto& b : junk) b = static_cast<std::uint8_t>(random());
+      bus.add(junk, silence());
+    }
+  }
+  return bus;
+}
+
+struct Moment {
+  std::size_t records = 0;
+  Nanos oldest_pending = 0;
+  Nanos decidable_at = 0;
+  bool operator==(const Moment&) const = default;
+};
+
+void expect_same_records(const std::vector<Record>& a, const std::vector<Record>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(a[i].kind, b[i].kind);
+    EXPECT_TRUE(std::equal(a[i].bytes().begin(), a[i].bytes().end(), b[i].bytes().begin(),
+                           b[i].bytes().end()));
+    EXPECT_EQ(a[i].t_start, b[i].t_start);
+    EXPECT_EQ(a[i].t_end, b[i].t_end);
+    EXPECT_EQ(a[i].gap_before, b[i].gap_before);
+    EXPECT_EQ(a[i].origin, b[i].origin);
+    EXPECT_EQ(a[i].crc_ok, b[i].crc_ok);
+    EXPECT_EQ(a[i].shape_fit, b[i].shape_fit);
+    EXPECT_EQ(a[i].issues.bits(), b[i].issues.bits());
+  }
+}
+
+TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
+  for (const std::uint32_t seed : {1U, 2U, 3U}) {
+    SCOPED_TRACE(seed);
+    const BusBuilder bus = sick_polling(seed);
+    std::vector<Chunk> reads = bus.per_byte();
+    // Now and then the clock steps back for a few reads (a driver's timestamps do).
+    std::mt19937 random(seed);
+    for (std::size_t i = 50; i + 3 < reads.size(); i += 200 + random() % 200) {
+      for (std::size_t k = 0; k < 3; ++k) reads[i + k].t_end -= 3 * bus.line().char_time();
+    }
+    const FramerConfig config{bus.line(), kNanosPerMicro};
+    CollectingSink direct_records;
+    CollectingSink searched_records;
+    Framer direct(config, direct_records);
+    Framer searched(config, searched_records);
+    std::size_t taken = 0;
+    std::size_t first_bytes_taken = 0;
+    std::size_t second_bytes_taken = 0;
+    Nanos previous_end = 0;
+    for (std::size_t i = 0; i < reads.size(); ++i) {
+      SCOPED_TRACE(i);
+      const Chunk& read = reads[i];
+      const bool empty_before = direct.oldest_pending_start() == kUnknownTime;
+      const bool one_byte_before =
+          direct.oldest_pending_start() == previous_end - bus.line().char_time();
+      if (direct.push_if_head_waits(read.bytes[0], read.t_end, read.origin)) {
+        ++taken;
+        if (empty_before) ++first_bytes_taken;
+        if (one_byte_before) ++second_bytes_taken;
+      } else {
+        direct.push_without_shortcut(read);
+      }
+      searched.push_without_shortcut(read);
+      previous_end = std::max(previous_end + bus.line().char_time(), read.t_end);
+      // A live run's quiet moments, now and then between reads.
+      if (i % 17 == 0) {
+        direct.advance(read.t_end + 2 * kMs);
+        searched.advance(read.t_end + 2 * kMs);
+      }
+      const Moment a{direct_records.records.size(), direct.oldest_pending_start(),
+                     direct.decidable_at()};
+      const Moment b{searched_records.records.size(), searched.oldest_pending_start(),
+                     searched.decidable_at()};
+      ASSERT_EQ(a, b);
+    }
+    direct.finish();
+    searched.finish();
+    expect_same_records(direct_records.records, searched_records.records);
+    // The traffic was sick: glitches and junk came out as noise, and frames were found.
+    std::size_t noise = 0;
+    std::size_t frames = 0;
+    for (const Record& r : searched_records.records) {
+      noise += r.kind == RecordKind::kNoise ? 1 : 0;
+      frames += r.kind == RecordKind::kFrame && r.crc_ok ? 1 : 0;
+    }
+    EXPECT_GT(noise, 40U);
+    EXPECT_GT(frames, 400U);
+    // And the shortcut was taken: for most bytes, frames' first and second bytes among them.
+    EXPECT_GT(taken, reads.size() / 2);
+    EXPECT_GT(first_bytes_taken, frames / 2);
+    EXPECT_GT(second_bytes_taken, frames / 2);
+  }
+}
+
+}  // namespace
+}  // namespace rtu

@@ -20,11 +20,12 @@ bool carries_values(const Record& frame) {
   return !frame.issues.has(IssueId::kByteCount) && !request.issues.has(IssueId::kByteCount);
 }
 
-std::string_view RawValues::name_of(std::uint64_t key, std::string_view table, std::uint32_t addr) {
+std::string_view RawValues::name_of(std::uint64_t key, DataTable table, std::uint32_t addr) {
   if (const std::string_view* known = names_.find(key)) return *known;
   // Names handed out earlier in this call stay valid: a deque's elements never move, and
   // the names are only forgotten before a record's first value.
-  const std::string_view name = name_texts_.emplace_back(fmt::format("{} 0x{:04X}", table, addr));
+  const std::string_view name =
+      name_texts_.emplace_back(fmt::format("{} 0x{:04X}", data_table_name(table), addr));
   names_.put(key, name);
   return name;
 }
@@ -38,14 +39,16 @@ void RawValues::collect(const Record& frame, std::vector<PointValue>& out) {
     names_.clear();
     name_texts_.clear();
   }
+  const std::uint8_t slave = frame.slave();
   auto add = [&](DataTable table, std::uint32_t addr, double value) {
-    PointValue v;
+    // Filled in place, as the device stage fills a map's values (a PointValue built on the
+    // stack and copied in stalls on the copy), and its table named only for a new name.
+    PointValue& v = out.emplace_back();
     v.t = frame.t_start;
-    v.slave = frame.slave();
+    v.slave = slave;
     v.key = raw_point_key(static_cast<unsigned>(table), addr);
-    v.point = name_of(v.key, data_table_name(table), addr);
+    v.point = name_of(v.key, table, addr);
     v.value = value;
-    out.push_back(v);
   };
   // In the device's order: FC23's read shows the registers after its write.
   for (const DataBlock& b : access) {

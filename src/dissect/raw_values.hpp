@@ -14,6 +14,7 @@
 #include "core/flat_index.hpp"
 #include "dissect/point_value.hpp"
 #include "framing/record.hpp"
+#include "modbus/data_access.hpp"
 
 namespace rtu::dissect {
 
@@ -31,7 +32,7 @@ class RawValues {
  private:
   // The name of a table's address, formatted once: a bus polls the same registers again
   // and again. Bounded: past kMaxNames the names are made anew.
-  std::string_view name_of(std::uint64_t key, std::string_view table, std::uint32_t addr);
+  std::string_view name_of(std::uint64_t key, DataTable table, std::uint32_t addr);
   static constexpr std::size_t kMaxNames = 16384;
   std::deque<std::string> name_texts_;  // a deque: its strings never move as it grows
   FlatIndex<std::string_view> names_;   // key → its text in name_texts_

@@ -95,7 +95,7 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
     }
   };
   const auto store_byte = [&](std::size_t i, std::size_t slot, Nanos end, Nanos gap) {
-    settled_.reset(slot);  // a new position, not looked at yet
+    settled_[slot] = false;  // a new position, not looked at yet (no range check: slot < kWindow)
     bytes_[end_] = bytes[i];
     info_[end_] =
         ByteInfo{end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}};
@@ -464,7 +464,7 @@ std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bo
   const std::size_t length = confirmed_length(pos, at_end, kGenericDepth, pending, &notes);
   // Only a search that waited for nothing is final: at the end of input, too few bytes
   // are a "no" that more bytes could turn into a "yes".
-  if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_.set(slot);
+  if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_[slot] = true;
   if (length == 0 && (*pending || answer_may_change_) && !at_end && !notes.next_byte_matters &&
       config_.remember_quiet_starts) {
     quiet_starts_.remember(

@@ -307,7 +307,7 @@ inline void Framer::store_waiting_byte(std::uint8_t byte, Nanos end, Nanos gap,
                                        std::uint64_t origin, std::uint64_t window_end) {
   ++chunks_;
   last_read_small_ = true;
-  settled_.reset((window_end - 1) % kWindow);  // a new position, not looked at yet
+  settled_[(window_end - 1) % kWindow] = false;  // a new position, not looked at yet
   bytes_[end_] = byte;
   info_[end_] = ByteInfo{end, gap, origin, 1, 0};
   ++end_;

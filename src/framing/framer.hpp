@@ -84,6 +84,11 @@ class Framer {
   // and no record comes out. Otherwise it changes nothing and returns false. Inline: asked
   // at every read of a per-byte capture.
   bool push_if_head_waits(std::uint8_t byte, Nanos t_end, std::uint64_t origin);
+  // push_if_head_waits() for the reads of `reads` from `first` on, one after the other, as
+  // long as it would say true: returns how many it took, and when it took any, sets `latest`
+  // to the latest completion time among them. Asked once for a run of such reads, not at
+  // every read. The read after them, if any, is one it would say false for.
+  std::size_t push_reads_while_head_waits(const ByteReads& reads, std::size_t first, Nanos& latest);
   // push() for a caller that has just seen push_if_head_waits() say false for the read.
   void push_without_shortcut(const Chunk& chunk);
   // End of input: everything still buffered is emitted.
@@ -138,8 +143,9 @@ class Framer {
   }
   [[nodiscard]] Nanos quiet_to_decide() const { return t3_5_ + delivery_allowance(); }
   void decide_after_silence();  // advance() once the line was quiet long enough
-  void store_waiting_byte(std::uint8_t byte, Nanos end, Nanos gap, std::uint64_t origin,
-                          std::uint64_t window_end);
+  bool push_first_byte_if_it_waits(std::uint8_t byte, Nanos now, std::uint64_t origin);
+  std::size_t push_reads_to_waiting_head(const std::uint8_t* bytes, const Nanos* t_ends,
+                                         std::uint64_t origin, std::size_t count, Nanos& latest);
   void slide_window();
   void learn_from(std::size_t length);
   [[nodiscard]] bool reads_are_batched() const;
@@ -270,49 +276,113 @@ class Framer {
 // before anything changes; anything else (a silence to decide, a watch, a search to make, a
 // silence before the byte, a full window, a head whose answer waits on its CRC search) is
 // left to push().
-// A frame's first byte, into an empty window, is taken too: advance() has nothing to decide
-// (unless noise is held), and decide(false) would run the watches on, search at the head
-// (one byte, too short for any frame: it waits, and the search remembers that) and find no
-// position after it to look at for a silence.
 inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64_t origin) {
-  if (end_ == kWindow || quiet_starts_.any_watched()) return false;
-  const std::size_t n = buffered() + 1;  // with the new byte
-  if (n >= kMaxPending || last_byte_end_ == kUnknownTime) return false;
-  // The new byte's end and the silence before it, as push() times a one-byte read.
-  const Nanos end = std::max(now, last_byte_end_ + char_time_);
-  const Nanos gap = end - char_time_ - last_byte_end_;
-  const std::uint64_t window_end = consumed_ + n;
-  if (n == 1) {
-    if (noise_.size != 0) return false;  // advance() may end the noise
-    store_waiting_byte(byte, end, gap, origin, window_end);
-    bool pending = false;
-    settled_or_confirmed_length(0, false, &pending);  // fewer bytes than a frame: 0, pending
-    silence_search_from_ = std::max(silence_search_from_, window_end);
-    return true;
-  }
-  if (now - last_byte_end_ >= quiet_to_decide()) return false;  // advance() would decide
-  if (silence_search_from_ != window_end - 1 || silence_before(gap)) return false;
-  if (settled_[consumed_ % kWindow]) return false;
-  const QuietStart* head = quiet_starts_.find(consumed_, epoch_, window_end);
-  if (head == nullptr || head->watch_crc_scan || !head->pending) return false;
-
-  store_waiting_byte(byte, end, gap, origin, window_end);
-  answer_may_change_ = head->may_change;  // as the remembered answer sets it
-  silence_search_from_ = window_end;      // the new byte shows no silence
-  return true;
+  if (buffered() == 0) return push_first_byte_if_it_waits(byte, now, origin);
+  Nanos latest = 0;
+  return push_reads_to_waiting_head(&byte, &now, origin, 1, latest) == 1;
 }
 
-// What push() does with a one-byte read before the decision that leaves the head waiting.
-inline void Framer::store_waiting_byte(std::uint8_t byte, Nanos end, Nanos gap,
-                                       std::uint64_t origin, std::uint64_t window_end) {
-  ++chunks_;
-  last_read_small_ = true;
-  settled_[(window_end - 1) % kWindow] = false;  // a new position, not looked at yet
+inline std::size_t Framer::push_reads_while_head_waits(const ByteReads& reads, std::size_t first,
+                                                       Nanos& latest) {
+  std::size_t i = first;
+  if (i < reads.size() && buffered() == 0) {
+    if (!push_first_byte_if_it_waits(reads.bytes[i], reads.t_ends[i], reads.origin + i)) return 0;
+    latest = reads.t_ends[i];
+    ++i;
+  }
+  if (i < reads.size()) {
+    Nanos run_latest = 0;
+    const std::size_t taken = push_reads_to_waiting_head(
+        reads.bytes.data() + i, reads.t_ends + i, reads.origin + i, reads.size() - i, run_latest);
+    if (taken > 0) {
+      latest = i > first ? std::max(latest, run_latest) : run_latest;
+      i += taken;
+    }
+  }
+  return i - first;
+}
+
+// A frame's first byte, into an empty window: advance() has nothing to decide (unless noise
+// is held), and decide(false) would run the watches on, search at the head (one byte, too
+// short for any frame: it waits, and the search remembers that) and find no position after
+// it to look at for a silence.
+inline bool Framer::push_first_byte_if_it_waits(std::uint8_t byte, Nanos now,
+                                                std::uint64_t origin) {
+  if (end_ == kWindow || quiet_starts_.any_watched() || last_byte_end_ == kUnknownTime) {
+    return false;
+  }
+  if (noise_.size != 0) return false;  // advance() may end the noise
+  // The byte's end and the silence before it, as push() times a one-byte read.
+  const Nanos end = std::max(now, last_byte_end_ + char_time_);
+  const Nanos gap = end - char_time_ - last_byte_end_;
+  const std::uint64_t window_end = consumed_ + 1;
+  settled_[consumed_ % kWindow] = false;  // a new position, not looked at yet
   bytes_[end_] = byte;
   info_[end_] = ByteInfo{end, gap, origin, 1, 0};
   ++end_;
+  ++chunks_;
+  last_read_small_ = true;
   last_byte_end_ = end;
   quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
+  bool pending = false;
+  settled_or_confirmed_length(0, false, &pending);  // fewer bytes than a frame: 0, pending
+  silence_search_from_ = std::max(silence_search_from_, window_end);
+  return true;
+}
+
+// Reads bytes[k], completed at t_ends[k], one after the other, to a head (of a window that
+// holds bytes) that waits. Of the conditions above, all but a read's own timing hold for the
+// whole run once they hold for its first read, within the bounds set below: nothing these
+// reads store changes the head's remembered answer, the watches or the epoch, and each
+// read leaves the silence mark where the next one needs it. So only the timing is asked
+// read by read. Returns how many were taken, and the latest completion time among them.
+inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
+                                                      const Nanos* t_ends, std::uint64_t origin,
+                                                      std::size_t count, Nanos& latest) {
+  const std::size_t held = buffered();
+  if (held == 0 || end_ == kWindow || held + 1 >= kMaxPending || quiet_starts_.any_watched() ||
+      last_byte_end_ == kUnknownTime) {
+    return 0;
+  }
+  const std::uint64_t first_end = consumed_ + held + 1;  // the window's end with the first read
+  if (silence_search_from_ != first_end - 1 || settled_[consumed_ % kWindow]) return 0;
+  const QuietStart* head = quiet_starts_.find(consumed_, epoch_, first_end);
+  if (head == nullptr || head->watch_crc_scan || !head->pending) return 0;
+  // The remembered answer holds while the window ends before head->until; the window's room
+  // and the forced decision (kMaxPending) bound the run as they bound each read.
+  const std::size_t limit = static_cast<std::size_t>(std::min<std::uint64_t>(
+      {count, head->until - first_end, kWindow - end_, kMaxPending - (held + 1)}));
+  const Nanos quiet = quiet_to_decide();
+  const Nanos char_time = char_time_;
+  // In locals: the byte stores may alias any member.
+  std::uint8_t* const to_bytes = bytes_.data() + end_;
+  ByteInfo* const to_info = info_.data() + end_;
+  Nanos last = last_byte_end_;
+  Nanos newest = t_ends[0];
+  std::size_t k = 0;
+  for (; k < limit; ++k) {
+    const Nanos now = t_ends[k];
+    if (now - last >= quiet) break;  // advance() would decide
+    // The byte's end and the silence before it, as push() times a one-byte read.
+    const Nanos end = std::max(now, last + char_time);
+    const Nanos gap = end - char_time - last;
+    if (silence_before(gap)) break;
+    settled_[(first_end - 1 + k) % kWindow] = false;  // a new position, not looked at yet
+    to_bytes[k] = bytes[k];
+    to_info[k] = ByteInfo{end, gap, origin + k, 1, 0};
+    newest = std::max(newest, now);
+    last = end;
+  }
+  if (k == 0) return 0;
+  const std::uint64_t window_end = first_end - 1 + k;
+  end_ += k;
+  chunks_ += k;
+  last_read_small_ = true;
+  last_byte_end_ = last;
+  quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
+  silence_search_from_ = window_end;      // the new bytes show no silence
+  latest = newest;
+  return k;
 }
 
 }  // namespace rtu

@@ -144,15 +144,18 @@ void DecodePipeline::push_byte_reads(const ByteReads& reads) {
     waited = false;
   };
   for (std::size_t i = 0; i < reads.size(); ++i) {
-    const Nanos t_end = reads.t_ends[i];
-    if (framer.push_if_head_waits(reads.bytes[i], t_end, reads.origin + i)) {
-      latest_waited = waited ? std::max(latest_waited, t_end) : t_end;
+    Nanos latest = 0;
+    const std::size_t taken = framer.push_reads_while_head_waits(reads, i, latest);
+    if (taken > 0) {
+      latest_waited = waited ? std::max(latest_waited, latest) : latest;
       waited = true;
-      continue;
+      i += taken;
+      if (i == reads.size()) break;
     }
+    // A read the shortcut declined.
     catch_up();
     // push_read() without the merge, which holds nothing with one port.
-    idle(t_end);
+    idle(reads.t_ends[i]);
     framer.push_without_shortcut(reads.read(i));
   }
   catch_up();

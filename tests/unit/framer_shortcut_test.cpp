@@ -1,9 +1,11 @@
 // Framer::push_if_head_waits() takes a one-byte read without the search push() makes for it,
-// where that search is known to leave the head waiting. It must change nothing: read by
-// read, a framer that takes the shortcut wherever it can and one that never does must give
+// where that search is known to leave the head waiting, and push_reads_while_head_waits()
+// takes a run of such reads at once. They must change nothing: read by read (or run by
+// run), a framer that takes the shortcut wherever it can and one that never does must give
 // the same records, hold bytes from the same moment and be ready to decide at the same one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -28,8 +30,9 @@ BusBuilder sick_polling(std::uint32_t seed) {
   BusBuilder bus;
   const Nanos ch = bus.line().char_time();
   const auto silence = [&] {
-    const Nanos choices[] = {0, ch / 2, 2 * ch, 5 * ch, 3 * kMs, 20 * kMs};
-    return choices[random() % 6];
+    // 33.5 ms: with 30 ms timestamps, a pause that is no silence yet one advance() decides at.
+    const Nanos choices[] = {0, ch / 2, 2 * ch, 5 * ch, 3 * kMs, 20 * kMs, 33 * kMs + kMs / 2};
+    return choices[random() % 7];
   };
   for (int i = 0; i < 300; ++i) {
     const auto slave = static_cast<std::uint8_t>(1 + random() % 3);
@@ -45,10 +48,11 @@ BusBuilder sick_polling(std::uint32_t seed) {
     response.push_back(static_cast<std::uint8_t>(crc >> 8U));
     if (random() % 11 == 0) response[random() % response.size()] ^= 0x04;  // damaged
     if (random() % 13 == 0) {
-      // Cut by a pause longer than t3.5: two pieces.
+      // Cut by a pause longer than t3.5 (33.5 ms: see below): two pieces.
       const std::size_t cut = 1 + random() % (response.size() - 1);
       bus.add({response.begin(), response.begin() + static_cast<std::ptrdiff_t>(cut)}, 2 * kMs);
-      bus.add({response.begin() + static_cast<std::ptrdiff_t>(cut), response.end()}, 6 * kMs);
+      bus.add({response.begin() + static_cast<std::ptrdiff_t>(cut), response.end()},
+              random() % 2 == 0 ? 6 * kMs : 33 * kMs + kMs / 2);
     } else {
       bus.add(response, random() % 6 == 0 ? silence() : 2 * kMs);
     }
@@ -59,6 +63,17 @@ BusBuilder sick_polling(std::uint32_t seed) {
     }
   }
   return bus;
+}
+
+// The reads of a per-byte capture of sick polling, with the clock stepping back now and then
+// for a few reads (a driver's timestamps do).
+std::vector<Chunk> sick_reads(const BusBuilder& bus, std::uint32_t seed) {
+  std::vector<Chunk> reads = bus.per_byte();
+  std::mt19937 random(seed);
+  for (std::size_t i = 50; i + 3 < reads.size(); i += 200 + random() % 200) {
+    for (std::size_t k = 0; k < 3; ++k) reads[i + k].t_end -= 3 * bus.line().char_time();
+  }
+  return reads;
 }
 
 struct Moment {
@@ -89,12 +104,7 @@ TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
   for (const std::uint32_t seed : {1U, 2U, 3U}) {
     SCOPED_TRACE(seed);
     const BusBuilder bus = sick_polling(seed);
-    std::vector<Chunk> reads = bus.per_byte();
-    // Now and then the clock steps back for a few reads (a driver's timestamps do).
-    std::mt19937 random(seed);
-    for (std::size_t i = 50; i + 3 < reads.size(); i += 200 + random() % 200) {
-      for (std::size_t k = 0; k < 3; ++k) reads[i + k].t_end -= 3 * bus.line().char_time();
-    }
+    const std::vector<Chunk> reads = sick_reads(bus, seed);
     const FramerConfig config{bus.line(), kNanosPerMicro};
     CollectingSink direct_records;
     CollectingSink searched_records;
@@ -147,6 +157,68 @@ TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
     EXPECT_GT(first_bytes_taken, frames / 2);
     EXPECT_GT(second_bytes_taken, frames / 2);
   }
+}
+
+TEST(FramerShortcut, TakingRunsOfReadsAtOnceChangesNothing) {
+  const BusBuilder bus = sick_polling(4);
+  const std::vector<Chunk> reads = sick_reads(bus, 4);
+  std::vector<std::uint8_t> bytes;
+  std::vector<Nanos> t_ends;
+  for (const Chunk& read : reads) {
+    bytes.push_back(read.bytes[0]);
+    t_ends.push_back(read.t_end);
+  }
+  // Exact timestamps, and coarse ones (longer than the framer's delivery patience: a read
+  // after a pause too short to show as a silence may still come when advance() decides).
+  for (const Nanos resolution : {kNanosPerMicro, 30 * kMs})
+    for (const std::size_t run : {1U, 2U, 5U, 64U, 100000U}) {
+      SCOPED_TRACE(run);
+      SCOPED_TRACE(resolution);
+      const FramerConfig config{bus.line(), resolution};
+      CollectingSink run_records;
+      CollectingSink searched_records;
+      Framer by_runs(config, run_records);
+      Framer searched(config, searched_records);
+      std::size_t searched_up_to = 0;  // reads pushed to `searched`
+      std::size_t taken = 0;
+      std::size_t longest = 0;
+      for (std::size_t first = 0; first < reads.size(); first += run) {
+        const std::size_t size = std::min(run, reads.size() - first);
+        const ByteReads piece{std::span(bytes).subspan(first, size), t_ends.data() + first,
+                              reads[first].origin, 0};
+        for (std::size_t i = 0; i < size;) {
+          Nanos latest = kUnknownTime;
+          const std::size_t n = by_runs.push_reads_while_head_waits(piece, i, latest);
+          if (n > 0) {
+            EXPECT_EQ(latest, *std::max_element(piece.t_ends + i, piece.t_ends + i + n));
+            taken += n;
+            longest = std::max(longest, n);
+            i += n;
+          }
+          if (i < size) {
+            by_runs.push_without_shortcut(piece.read(i));
+            ++i;
+          }
+          for (; searched_up_to < first + i; ++searched_up_to) {
+            searched.push_without_shortcut(reads[searched_up_to]);
+          }
+          ASSERT_EQ(run_records.records.size(), searched_records.records.size())
+              << "after read " << first + i;
+          ASSERT_EQ(by_runs.oldest_pending_start(), searched.oldest_pending_start())
+              << "after read " << first + i;
+          ASSERT_EQ(by_runs.decidable_at(), searched.decidable_at()) << "after read " << first + i;
+        }
+      }
+      by_runs.finish();
+      searched.finish();
+      expect_same_records(run_records.records, searched_records.records);
+      EXPECT_GT(taken, reads.size() / 3);  // coarse timestamps: fewer (48%)
+      // Runs were taken whole: a request's four bytes after its first search, a long
+      // response's dozen.
+      if (run >= 64) {
+        EXPECT_GE(longest, 10U);
+      }
+    }
 }
 
 }  // namespace

@@ -506,8 +506,9 @@ Framer::Verdict Framer::decide_head(bool at_end) {
     // Every position after the head is now known silent-free, also where there is none
     // yet (the head alone, a frame's first byte): so the next byte may be taken by
     // push_if_head_waits(), which asks exactly that.
-    if (all_silent_free && silence_search_from_ < consumed_ + n)
+    if (all_silent_free && silence_search_from_ < consumed_ + n) {
       silence_search_from_ = consumed_ + n;
+    }
     return Verdict::kWait;
   }
 

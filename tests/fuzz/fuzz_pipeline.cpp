@@ -5,7 +5,8 @@
 // Oracles: every input byte leaves in exactly one record, no record exceeds 256 bytes,
 // records of one port leave in time order, and a run with a live capture's idle calls
 // between the reads gives exactly the records of the replay without them (live ≡ replay),
-// device issues included; every value the device stage collects has a name.
+// device issues included; every value the device stage collects has a name. The same bytes
+// read one at a time give the same records read by read as in runs of one-byte reads.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -84,8 +85,12 @@ struct Read {
 // in a driver, so a read's bytes were on the wire at most an adapter's delivery delay
 // (the resolution, at least kDeliveryPatience) and a character before an idle moment:
 // idle moments here keep to that, as they do on a real line.
+// With `run` > 0 (and no idle moments), one-byte reads in a row on one port are handed over
+// in runs of up to `run` reads, as a reading thread hands them over
+// (DecodePipeline::push_byte_reads).
 std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOptions& options,
-                         bool one_port, rtu::Nanos idle_step, std::size_t payload) {
+                         bool one_port, rtu::Nanos idle_step, std::size_t payload,
+                         std::size_t run = 0) {
   static rtu::OutputStream devnull("/dev/null");
   rtu::JsonlWriter json(devnull);
   rtu::TextWriter text(devnull);
@@ -106,7 +111,32 @@ std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOpti
   const rtu::Nanos char_time = options.line.char_time();
   const rtu::Nanos delivery =
       std::max(options.timing_resolution, rtu::kDeliveryPatience) + char_time;
+  std::vector<std::uint8_t> run_bytes;
+  std::vector<rtu::Nanos> run_t_ends;
+  std::uint8_t run_port = 0;
+  const auto push_run = [&] {
+    if (run_bytes.empty()) return;
+    pipeline.push_byte_reads(rtu::ByteReads{run_bytes, run_t_ends.data(), 0, run_port});
+    run_bytes.clear();
+    run_t_ends.clear();
+  };
   for (const auto& read : reads) {
+    if (run > 0) {
+      if (read.bytes.size() == 1 && (run_bytes.empty() || read.port == run_port)) {
+        run_port = read.port;
+        run_bytes.push_back(read.bytes[0]);
+        run_t_ends.push_back(read.t_end);
+        if (run_bytes.size() == run) push_run();
+        continue;
+      }
+      push_run();
+      if (read.bytes.size() == 1) {
+        run_port = read.port;
+        run_bytes.push_back(read.bytes[0]);
+        run_t_ends.push_back(read.t_end);
+        continue;
+      }
+    }
     const rtu::Nanos on_wire_from =
         read.t_end - static_cast<rtu::Nanos>(read.bytes.size()) * char_time;
     for (; idle_step > 0 && now + idle_step < read.t_end &&
@@ -121,6 +151,7 @@ std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOpti
     pipeline.push(c);
     now = read.t_end;
   }
+  push_run();
   pipeline.finish();
   if (sink.bytes != payload) std::abort();
   return std::move(sink.seen);
@@ -177,6 +208,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto lived = decode(reads, options, !two_ports, idle_step, payload);
   if (lived != replayed) {
     report_first_difference(replayed, lived);
+    std::abort();
+  }
+  // The same bytes read one at a time (as a per-byte source reads them, each a character
+  // after the one before): read by read, and in runs of one-byte reads, the same records.
+  std::vector<Read> one_byte_reads;
+  for (const Read& read : reads) {
+    for (std::size_t i = 0; i < read.bytes.size(); ++i) {
+      const auto later = static_cast<rtu::Nanos>(read.bytes.size() - 1 - i);
+      one_byte_reads.push_back(
+          Read{read.t_end - later * options.line.char_time(), read.port, {read.bytes[i]}});
+    }
+  }
+  const auto read_by_read = decode(one_byte_reads, options, !two_ports, 0, payload);
+  const std::size_t run = 1 + (data[0] >> 6U) * 21U;  // 1, 22, 43 or 64 reads
+  const auto in_runs = decode(one_byte_reads, options, !two_ports, 0, payload, run);
+  if (in_runs != read_by_read) {
+    report_first_difference(read_by_read, in_runs);
     std::abort();
   }
   return 0;

@@ -36,8 +36,12 @@ class ReadAhead final : public CaptureReader {
   // `whole_byte_runs`: one-byte reads in a row go out as one item (on_byte_reads), up to a
   // batch's worth, instead of one read() each; for a consumer that reads to the end and
   // never needs to stop between two reads.
+  // `yields_to_framing`: this is the lightest of three threads (parsing, framing, pairing);
+  // where they outnumber the cores, the reading thread lowers its priority so that the
+  // framing, the busiest, keeps its core (a per-byte report: 5-7% less wall time on two).
   explicit ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside = nullptr,
-                     bool hand_over_records = true, bool whole_byte_runs = false);
+                     bool hand_over_records = true, bool whole_byte_runs = false,
+                     bool yields_to_framing = false);
   // Stops the reading thread (reading need not have reached the end) and waits for it.
   ~ReadAhead() override;
   ReadAhead(const ReadAhead&) = delete;
@@ -76,6 +80,7 @@ class ReadAhead final : public CaptureReader {
   CaptureConsumer* alongside_;
   bool hand_over_records_;
   bool whole_byte_runs_;
+  bool yields_to_framing_;
   std::string name_;
   std::uint64_t input_size_ = 0;
   std::uint64_t bytes_read_ = 0;

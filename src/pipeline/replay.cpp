@@ -295,7 +295,8 @@ class DecodingRun {
       // reads) are not handed over: in a native pcapng, one record of every frame.
       // The framing reads to the end: runs of one-byte reads go to it whole, a call each.
       parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside, !survey.use_chunks,
-                                            /*whole_byte_runs=*/true);
+                                            /*whole_byte_runs=*/true,
+                                            /*yields_to_framing=*/true);
       alongside = nullptr;
     }
     // The parser, when there is one, is owned by the framing from here on.

@@ -149,8 +149,9 @@ void ReadAhead::run() {
   // parsing has filled its batches and the pairing has emptied its own, and only the framing
   // runs while a core idles. Three nice levels below the others, parsing takes its share
   // where the framing leaves one (per-byte report: 2 to 4 levels gave the least wall time).
-  if (yields_to_framing_)
+  if (yields_to_framing_) {
     yield_priority_if_crowded(kStagesWhenFramingAhead, kNiceStepsBelowFraming);
+  }
   for (;;) {
     auto batch = queue_->acquire();
     if (batch == nullptr) return;

@@ -4,41 +4,8 @@
 
 namespace rtu::dissect {
 
-std::uint32_t Point::value_bytes() const {
-  switch (type) {
-    case PointType::kU8:
-    case PointType::kI8: return 1;
-    case PointType::kU16:
-    case PointType::kI16: return 2;
-    case PointType::kU32:
-    case PointType::kI32:
-    case PointType::kF32: return 4;
-    case PointType::kBit: return 0;
-  }
-  return 0;
-}
-
-std::uint32_t Point::value_units(Addressing addressing) const {
-  if (type == PointType::kBit) return 1;
-  if (addressing == Addressing::kByte) return value_bytes();
-  return (value_bytes() + 1) / 2;
-}
-
-std::uint32_t Point::units(Addressing addressing) const {
-  const std::uint32_t spare_units = addressing == Addressing::kByte ? 2U * spare : spare;
-  return value_units(addressing) + spare_units;
-}
-
 bool Space::serves(std::uint8_t function) const {
   return std::find(functions.begin(), functions.end(), function) != functions.end();
-}
-
-const Point* Space::point_at(std::uint32_t addr) const {
-  if (indexed_points_ != points.size() || indexed_points_ == 0) return search_point_at(addr);
-  const std::uint32_t rel = addr - index_base_;  // below the base wraps to beyond the table
-  if (rel >= slot_by_addr_.size()) return nullptr;
-  const std::uint16_t slot = slot_by_addr_[rel];
-  return slot == 0 ? nullptr : &points[slot - 1U];
 }
 
 void Space::index_points() {

@@ -136,6 +136,19 @@ class Framer {
 
   enum class Verdict : std::uint8_t { kEmitted, kWait };
 
+  // A byte's end and the silence before it, for a byte that ended no earlier than
+  // `earliest_end` (what its read's timing says) and no earlier than one character time after
+  // the byte before it, which ended at `previous_end` (known). push() and its shortcuts time
+  // bytes this one way.
+  struct ByteTiming {
+    Nanos end = 0;
+    Nanos gap = 0;
+  };
+  static ByteTiming time_after(Nanos earliest_end, Nanos previous_end, Nanos char_time) {
+    const Nanos end = std::max(earliest_end, previous_end + char_time);
+    return {end, end - char_time - previous_end};
+  }
+
   // How long an adapter may hold bytes back (the resolution, at least kDeliveryPatience),
   // and the quiet after the last byte that decides what is held: t3.5 beyond that.
   [[nodiscard]] Nanos delivery_allowance() const {
@@ -312,9 +325,7 @@ inline bool Framer::push_first_byte_if_it_waits(std::uint8_t byte, Nanos now,
     return false;
   }
   if (noise_.size != 0) return false;  // advance() may end the noise
-  // The byte's end and the silence before it, as push() times a one-byte read.
-  const Nanos end = std::max(now, last_byte_end_ + char_time_);
-  const Nanos gap = end - char_time_ - last_byte_end_;
+  const auto [end, gap] = time_after(now, last_byte_end_, char_time_);
   const std::uint64_t window_end = consumed_ + 1;
   settled_[consumed_ % kWindow] = false;  // a new position, not looked at yet
   bytes_[end_] = byte;
@@ -363,9 +374,7 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
   for (; k < limit; ++k) {
     const Nanos now = t_ends[k];
     if (now - last >= quiet) break;  // advance() would decide
-    // The byte's end and the silence before it, as push() times a one-byte read.
-    const Nanos end = std::max(now, last + char_time);
-    const Nanos gap = end - char_time - last;
+    const auto [end, gap] = time_after(now, last, char_time);
     if (silence_before(gap)) break;
     settled_[(first_end - 1 + k) % kWindow] = false;  // a new position, not looked at yet
     to_bytes[k] = bytes[k];

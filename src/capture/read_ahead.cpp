@@ -124,13 +124,9 @@ class ReadAhead::Collector final : public CaptureConsumer {
   bool records_;
 };
 
-ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside,
-                     bool hand_over_records, bool whole_byte_runs, bool yields_to_framing)
+ReadAhead::ReadAhead(std::unique_ptr<CaptureReader> reader, ReadAheadOptions options)
     : reader_(std::move(reader)),
-      alongside_(alongside),
-      hand_over_records_(hand_over_records),
-      whole_byte_runs_(whole_byte_runs),
-      yields_to_framing_(yields_to_framing),
+      options_(options),
       name_(reader_->name()),
       input_size_(reader_->input_size()),
       queue_(std::make_unique<HandoffQueue<Batch>>(kBatches)) {
@@ -149,16 +145,16 @@ void ReadAhead::run() {
   // parsing has filled its batches and the pairing has emptied its own, and only the framing
   // runs while a core idles. Three nice levels below the others, parsing takes its share
   // where the framing leaves one (per-byte report: 2 to 4 levels gave the least wall time).
-  if (yields_to_framing_) {
+  if (options_.yields_to_framing) {
     yield_priority_if_crowded(kStagesWhenFramingAhead, kNiceStepsBelowFraming);
   }
   for (;;) {
     auto batch = queue_->acquire();
     if (batch == nullptr) return;
     batch->clear();
-    Collector collector(*batch, hand_over_records_);
+    Collector collector(*batch, options_.hand_over_records);
     std::optional<ConsumerTee> tee;
-    if (alongside_ != nullptr) tee.emplace(*alongside_, collector);
+    if (options_.alongside != nullptr) tee.emplace(*options_.alongside, collector);
     CaptureConsumer& to = tee ? static_cast<CaptureConsumer&>(*tee) : collector;
     try {
       while (!batch->full()) {
@@ -237,7 +233,7 @@ bool ReadAhead::read(CaptureConsumer& to) {
     if (current_ != nullptr && next_item_ < current_->items.size()) {
       const Item& item = current_->items[next_item_];
       if (item.kind == Item::Kind::kByteReads) {
-        if (whole_byte_runs_) {
+        if (options_.whole_byte_runs) {
           deliver_byte_run(item, *current_, to);
           ++next_item_;
         } else if (deliver_byte_read(item, *current_, to)) {

@@ -20,6 +20,25 @@
 
 namespace rtu {
 
+// How a ReadAhead hands over what it reads, and how its thread behaves.
+struct ReadAheadOptions {
+  // Sees every item as well (optional, not owned), on the reading thread, just before it is
+  // batched: a survey that costs the decoding core nothing. It is the reading thread's until
+  // read() has returned false or thrown.
+  CaptureConsumer* alongside = nullptr;
+  // False: the reader's frame and noise records are not handed over (only `alongside` sees
+  // them), for a consumer that re-frames the raw reads and leaves them aside.
+  bool hand_over_records = true;
+  // One-byte reads in a row go out as one item (on_byte_reads), up to a batch's worth,
+  // instead of one read() each; for a consumer that reads to the end and never needs to stop
+  // between two reads.
+  bool whole_byte_runs = false;
+  // This is the lightest of three threads (parsing, framing, pairing); where they outnumber
+  // the cores, the reading thread lowers its priority so that the framing, the busiest, keeps
+  // its core (a per-byte report: 5-7% less wall time on two).
+  bool yields_to_framing = false;
+};
+
 class ReadAhead final : public CaptureReader {
  public:
   static constexpr std::size_t kBatches = 6;
@@ -28,20 +47,8 @@ class ReadAhead final : public CaptureReader {
 
   // Starts reading `reader` at once. Only read(), name(), bytes_read() and input_size() may
   // be asked of this object: the reader's other answers belong to the survey pass, or to
-  // source() once reading ended. `alongside` (optional, not owned) sees every item as well,
-  // on the reading thread, just before it is batched: a survey that costs the decoding core
-  // nothing. It is the reading thread's until read() has returned false or thrown.
-  // `hand_over_records` false: the reader's frame and noise records are not handed over (only
-  // `alongside` sees them), for a consumer that re-frames the raw reads and leaves them aside.
-  // `whole_byte_runs`: one-byte reads in a row go out as one item (on_byte_reads), up to a
-  // batch's worth, instead of one read() each; for a consumer that reads to the end and
-  // never needs to stop between two reads.
-  // `yields_to_framing`: this is the lightest of three threads (parsing, framing, pairing);
-  // where they outnumber the cores, the reading thread lowers its priority so that the
-  // framing, the busiest, keeps its core (a per-byte report: 5-7% less wall time on two).
-  explicit ReadAhead(std::unique_ptr<CaptureReader> reader, CaptureConsumer* alongside = nullptr,
-                     bool hand_over_records = true, bool whole_byte_runs = false,
-                     bool yields_to_framing = false);
+  // source() once reading ended.
+  explicit ReadAhead(std::unique_ptr<CaptureReader> reader, ReadAheadOptions options = {});
   // Stops the reading thread (reading need not have reached the end) and waits for it.
   ~ReadAhead() override;
   ReadAhead(const ReadAhead&) = delete;
@@ -77,10 +84,7 @@ class ReadAhead final : public CaptureReader {
   static void deliver_byte_run(const Item& item, const Batch& batch, CaptureConsumer& to);
 
   std::unique_ptr<CaptureReader> reader_;
-  CaptureConsumer* alongside_;
-  bool hand_over_records_;
-  bool whole_byte_runs_;
-  bool yields_to_framing_;
+  ReadAheadOptions options_;
   std::string name_;
   std::uint64_t input_size_ = 0;
   std::uint64_t bytes_read_ = 0;

@@ -284,7 +284,8 @@ class DecodingRun {
     // their own, as the parsing is (below), whatever the caller's frame_ahead says.
     const bool frame_ahead = options.frame_ahead || survey.single_byte_reads;
     if (!frame_ahead || options.enough) {
-      parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside);
+      parser_ =
+          std::make_unique<ReadAhead>(std::move(reader), ReadAheadOptions{.alongside = alongside});
       return;
     }
     if (survey.single_byte_reads || options.parse_ahead) {
@@ -294,9 +295,11 @@ class DecodingRun {
       // time on two cores. Frame records that the framing leaves aside (it re-frames the raw
       // reads) are not handed over: in a native pcapng, one record of every frame.
       // The framing reads to the end: runs of one-byte reads go to it whole, a call each.
-      parser_ = std::make_unique<ReadAhead>(std::move(reader), alongside, !survey.use_chunks,
-                                            /*whole_byte_runs=*/true,
-                                            /*yields_to_framing=*/true);
+      parser_ = std::make_unique<ReadAhead>(
+          std::move(reader), ReadAheadOptions{.alongside = alongside,
+                                              .hand_over_records = !survey.use_chunks,
+                                              .whole_byte_runs = true,
+                                              .yields_to_framing = true});
       alongside = nullptr;
     }
     // The parser, when there is one, is owned by the framing from here on.

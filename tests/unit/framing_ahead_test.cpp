@@ -85,8 +85,10 @@ std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks
   Transcript out;
   const auto setup = setup_for(*reader, with_chunks ? &out : nullptr);
   if (parse_ahead) {
-    reader = std::make_unique<ReadAhead>(std::move(reader), nullptr, !setup.use_chunks,
-                                         /*whole_byte_runs=*/true, /*yields_to_framing=*/true);
+    reader = std::make_unique<ReadAhead>(std::move(reader),
+                                         ReadAheadOptions{.hand_over_records = !setup.use_chunks,
+                                                          .whole_byte_runs = true,
+                                                          .yields_to_framing = true});
   }
   FramingAhead ahead(std::move(reader), setup);
   EXPECT_EQ(ahead.name(), path);

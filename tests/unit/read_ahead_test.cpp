@@ -150,7 +150,7 @@ TEST(ReadAhead, OneByteReadsComeOutAsTheReaderGaveThemWhateverEndsTheirRuns) {
 TEST(ReadAhead, WholeRunsOfOneByteReadsHoldTheReadsTheReaderGave) {
   ScriptedReader direct;
   const auto expected = transcript_of(direct);
-  ReadAhead ahead(std::make_unique<ScriptedReader>(), nullptr, true, /*whole_byte_runs=*/true);
+  ReadAhead ahead(std::make_unique<ScriptedReader>(), {.whole_byte_runs = true});
   ItemTranscript got;
   std::size_t calls = 0;
   while (ahead.read(got)) ++calls;
@@ -168,7 +168,8 @@ TEST(ReadAhead, LeavesRecordsAsideWhenAskedButAConsumerAlongsideSeesThem) {
   auto expected = transcript_of(direct);
   ItemTranscript alongside;
   {
-    ReadAhead ahead(std::make_unique<ScriptedReader>(), &alongside, false);
+    ReadAhead ahead(std::make_unique<ScriptedReader>(),
+                    {.alongside = &alongside, .hand_over_records = false});
     const auto got = transcript_of(ahead);
     EXPECT_EQ(alongside.lines, expected);
     std::erase_if(expected, [](const std::string& line) {
@@ -201,7 +202,7 @@ TEST(ReadAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEnd) 
     // The consumer alongside does not see read() return or throw: only the items.
     if (damaged) expected.pop_back();
     ItemTranscript alongside;
-    ReadAhead ahead(open_capture(path, [](std::string_view) {}), &alongside);
+    ReadAhead ahead(open_capture(path, [](std::string_view) {}), {.alongside = &alongside});
     ItemTranscript first;
     ASSERT_TRUE(ahead.read(first));
     EXPECT_FALSE(ahead.ended());
@@ -244,8 +245,8 @@ int reading_nice_on_one_core(bool yields_to_framing) {
     const int own = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
     int nice = own;
     {
-      ReadAhead ahead(std::make_unique<NiceNotingReader>(nice), nullptr, true, true,
-                      yields_to_framing);
+      ReadAhead ahead(std::make_unique<NiceNotingReader>(nice),
+                      {.whole_byte_runs = true, .yields_to_framing = yields_to_framing});
       ItemTranscript t;
       while (ahead.read(t)) {
       }

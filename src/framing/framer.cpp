@@ -88,10 +88,9 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
       // latest one character time apart, and never before the previous byte ended.
       end = read_end - static_cast<Nanos>(n - 1 - i) * char_time;
       if (last_end != kUnknownTime) {
-        const ByteTiming timing = time_after(end, last_end, char_time);
-        end = timing.end;
+        end = std::max(end, last_end + char_time);
         // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
-        if (i == 0) gap = timing.gap;
+        if (i == 0) gap = end - char_time - last_end;
       }
     }
   };

@@ -138,8 +138,10 @@ class Framer {
 
   // A byte's end and the silence before it, for a byte that ended no earlier than
   // `earliest_end` (what its read's timing says) and no earlier than one character time after
-  // the byte before it, which ended at `previous_end` (known). push() and its shortcuts time
-  // bytes this one way.
+  // the byte before it, which ended at `previous_end` (known). The shortcuts time a one-byte
+  // read with it, as push() times each byte of a read (push() keeps its own two lines: there
+  // only a read's first byte needs the silence, and computing it for every byte cost
+  // 0.2% of a USB-chunked decode).
   struct ByteTiming {
     Nanos end = 0;
     Nanos gap = 0;

@@ -4,23 +4,19 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <sched.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "capture/open_capture.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
-#include "core/thread_priority.hpp"
 #include "item_transcript.hpp"
+#include "pinned_thread.hpp"
 
 namespace rtu {
 namespace {
@@ -224,7 +220,7 @@ class NiceNotingReader final : public CaptureReader {
  public:
   explicit NiceNotingReader(int& nice) : nice_(nice) {}
   bool read(CaptureConsumer& /*to*/) override {
-    nice_ = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
+    nice_ = testing::nice_of_this_thread();
     return false;
   }
   [[nodiscard]] std::string name() const override { return "nice-noting"; }
@@ -237,12 +233,8 @@ class NiceNotingReader final : public CaptureReader {
 // one core only (the reading thread inherits that), relative to the maker's.
 int reading_nice_on_one_core(bool yields_to_framing) {
   int relative = 0;
-  std::thread maker([&] {
-    cpu_set_t one;
-    CPU_ZERO(&one);
-    CPU_SET(static_cast<std::size_t>(sched_getcpu() < 0 ? 0 : sched_getcpu()), &one);
-    ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
-    const int own = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
+  testing::on_new_thread(1, [&] {
+    const int own = testing::nice_of_this_thread();
     int nice = own;
     {
       ReadAhead ahead(std::make_unique<NiceNotingReader>(nice),
@@ -253,14 +245,13 @@ int reading_nice_on_one_core(bool yields_to_framing) {
     }
     relative = nice - own;
   });
-  maker.join();
   return relative;
 }
 
 // Three threads on one core: the reading thread of a FramingAhead's reader (the lightest)
 // yields; any other reading thread does not.
 TEST(ReadAhead, TheReadingThreadYieldsWhenAskedAndTheCoresAreFewerThanTheThreads) {
-  if (getpriority(PRIO_PROCESS, static_cast<id_t>(gettid())) + 3 > 19) {
+  if (testing::nice_of_this_thread() + 3 > 19) {
     GTEST_SKIP() << "already at the lowest priority";
   }
   EXPECT_EQ(reading_nice_on_one_core(true), 3);

@@ -13,14 +13,17 @@ void QuietStarts::watch(const QuietStart& quiet, std::uint16_t crc) {
     epoch_ = quiet.epoch;
   }
   const std::size_t slot = quiet.start % kSlots;
-  until_[slot] = quiet.until;
-  crc_[slot] = crc;
-  crc_ends_[slot] = quiet.watch_crc_scan;
   const std::uint64_t bit = std::uint64_t{1} << (slot % 64);
+  std::size_t index = index_of_[slot];
   if (!test(watched_, slot)) {
     watched_[slot / 64] |= bit;
-    ++watchers_;
+    index = watchers_++;
+    watch_slot_[index] = static_cast<std::uint16_t>(slot);
+    index_of_[slot] = static_cast<std::uint16_t>(index);
   }
+  until_[index] = quiet.until;
+  crc_[index] = crc;
+  crc_ends_[index] = quiet.watch_crc_scan;
   if (quiet.pending) {
     pending_[slot / 64] |= bit;
   } else {
@@ -57,28 +60,50 @@ void QuietStarts::run_on(std::span<const std::uint8_t> bytes, std::uint64_t thro
     run_on_one(bytes[0], through);
     return;
   }
-  for_each_watched([&](std::size_t slot) {
-    std::uint16_t crc = crc_[slot];
+  for (std::size_t i = 0; i < watchers_;) {
+    std::uint16_t crc = crc_[i];
     bool zero = false;
     for (const std::uint8_t b : bytes) {
       crc = crc16_update(crc, b);
       zero = zero || crc == 0;
     }
-    crc_[slot] = crc;
-    return through >= until_[slot] || (zero && crc_ends_[slot]);
-  });
+    crc_[i] = crc;
+    if (through >= until_[i] || (zero && crc_ends_[i])) {
+      unwatch_at(i);  // the last watch moves to i: it is looked at next
+    } else {
+      ++i;
+    }
+  }
 }
 
 // run_on() over one byte, what per-byte reads bring: kept apart, it is the framer's
-// hottest loop on a stretch that forms nothing. (Running whole words of registers without a
-// branch, unwatched slots included, was slower.)
+// hottest loop on a stretch that forms nothing.
 void QuietStarts::run_on_one(std::uint8_t byte, std::uint64_t through) {
-  for_each_watched([&](std::size_t slot) {
+  for (std::size_t i = 0; i < watchers_;) {
     // Every register runs on, watched search or not: a branch per start cost more.
-    const std::uint16_t crc = crc16_update(crc_[slot], byte);
-    crc_[slot] = crc;
-    return (through >= until_[slot]) | ((crc == 0) & crc_ends_[slot]);
-  });
+    const std::uint16_t crc = crc16_update(crc_[i], byte);
+    crc_[i] = crc;
+    if ((through >= until_[i]) | ((crc == 0) & crc_ends_[i])) {
+      unwatch_at(i);  // the last watch moves to i: it is looked at next
+    } else {
+      ++i;
+    }
+  }
+}
+
+void QuietStarts::unwatch_at(std::size_t index) {
+  const std::size_t slot = watch_slot_[index];
+  const std::uint64_t clear = ~(std::uint64_t{1} << (slot % 64));
+  watched_[slot / 64] &= clear;
+  pending_[slot / 64] &= clear;
+  const std::size_t last = --watchers_;
+  if (index != last) {
+    watch_slot_[index] = watch_slot_[last];
+    until_[index] = until_[last];
+    crc_[index] = crc_[last];
+    crc_ends_[index] = crc_ends_[last];
+    index_of_[watch_slot_[index]] = static_cast<std::uint16_t>(index);
+  }
 }
 
 void QuietStarts::unwatch_slots(std::uint64_t first, std::size_t count) {
@@ -86,7 +111,9 @@ void QuietStarts::unwatch_slots(std::uint64_t first, std::size_t count) {
 }
 
 void QuietStarts::unwatch_every() {
-  for_each_watched([](std::size_t /*slot*/) { return true; });
+  watched_.fill(0);
+  pending_.fill(0);
+  watchers_ = 0;
 }
 
 }  // namespace rtu

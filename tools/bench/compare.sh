@@ -11,6 +11,11 @@
 # wall time, frames per second, the ratio to tshark and the largest peak RSS. tshark runs with its default preferences (its
 # fastest: CRC checking off). Use a Release build (cmake --preset release).
 # The captures stay in WORK_DIR (default: a new temporary folder, removed at the end).
+#
+# A second table does the same for adversarial traffic: RANDOM_FRAMES frames (default
+# 1,000,000; 0 leaves it out) with a random slave, function code and 0-60 data bytes, each
+# CRC-valid (tools/bench/random_frames.py), read per byte and a read per frame. There every
+# byte may start a frame of no known length, which ordinary polling never asks of the framer.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -87,18 +92,17 @@ for input in native.pcapng perbyte.hex usb.hex; do
     "$rtuscope" export "$work/$input" -o "$work/out.pcapng" -q)")
 done
 
-tshark_wall=$(cut -d'|' -f3 <<<"${results[0]}" | cut -d' ' -f1)
-size_of() { du -m "$work/$1" | cut -f1; }
-echo
-echo "$count frames; captures: per-byte hex $(size_of perbyte.hex) MB, USB hex $(size_of usb.hex) MB," \
-  "native pcapng $(size_of native.pcapng) MB, pcap 252 $(size_of frames.pcap) MB; $(nproc) cores"
-echo
-echo "| run | input | wall s | frames/s | × tshark | peak RSS MB |"
-echo "|---|---|---|---|---|---|"
-for r in "${results[@]}"; do
-  IFS='|' read -r label input stats <<<"$r"
-  read -r wall rss <<<"$stats"
-  python3 - "$label" "$input" "$wall" "$rss" "$count" "$tshark_wall" <<'EOF'
+# table FRAMES RESULT...: a Markdown table of run results, the first of them tshark's.
+table() {
+  local frames=$1 r label input stats wall rss tshark_wall
+  shift
+  tshark_wall=$(cut -d'|' -f3 <<<"$1" | cut -d' ' -f1)
+  echo "| run | input | wall s | frames/s | × tshark | peak RSS MB |"
+  echo "|---|---|---|---|---|---|"
+  for r in "$@"; do
+    IFS='|' read -r label input stats <<<"$r"
+    read -r wall rss <<<"$stats"
+    python3 - "$label" "$input" "$wall" "$rss" "$frames" "$tshark_wall" <<'EOF'
 import sys
 label, input_, wall, rss, count, tshark = sys.argv[1:]
 wall, rss, count, tshark = float(wall), int(rss), int(count), float(tshark)
@@ -106,4 +110,39 @@ rate = count / wall if wall > 0 else float("inf")
 ratio = tshark / wall if wall > 0 else float("inf")
 print(f"| {label} | {input_} | {wall:.2f} | {rate / 1e6:.2f} M | {ratio:.1f} | {rss / 1024:.0f} |")
 EOF
+  done
+}
+
+size_of() { du -m "$work/$1" | cut -f1; }
+echo
+echo "$count frames; captures: per-byte hex $(size_of perbyte.hex) MB, USB hex $(size_of usb.hex) MB," \
+  "native pcapng $(size_of native.pcapng) MB, pcap 252 $(size_of frames.pcap) MB; $(nproc) cores"
+echo
+table "$count" "${results[@]}"
+
+random_frames=${RANDOM_FRAMES:-1000000}
+((random_frames > 0)) || exit 0
+echo "Making captures of $random_frames random frames in $work ..." >&2
+python3 tools/bench/random_frames.py "$random_frames" "$work/random_perbyte.hex" --per-byte
+python3 tools/bench/random_frames.py "$random_frames" "$work/random_reads.hex"
+# tshark reads the frames that rtuscope finds in the per-byte capture (nearly all of them).
+"$rtuscope" export "$work/random_perbyte.hex" -o "$work/random.pcap" -q 2>/dev/null
+sync
+random_results=()
+random_results+=("$(run "tshark -T fields (unit id, function code)" "random.pcap" \
+  tshark -n -r "$work/random.pcap" -T fields -e frame.number -e mbrtu.unit_id \
+  -e modbus.func_code)")
+for input in random_perbyte.hex random_reads.hex; do
+  random_results+=("$(run "rtuscope report --format json" "$input" \
+    "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
+  random_results+=("$(run "rtuscope decode --format jsonl" "$input" \
+    "$rtuscope" decode "$work/$input" --format jsonl -o /dev/null -q)")
+  random_results+=("$(run "rtuscope export" "$input" \
+    "$rtuscope" export "$work/$input" -o "$work/out.pcapng" -q)")
 done
+echo
+echo "$random_frames random frames (frames/s counts them all); captures: per-byte hex" \
+  "$(size_of random_perbyte.hex) MB, a read per frame $(size_of random_reads.hex) MB," \
+  "pcap 252 $(size_of random.pcap) MB"
+echo
+table "$random_frames" "${random_results[@]}"

@@ -13,7 +13,7 @@
 # The captures stay in WORK_DIR (default: a new temporary folder, removed at the end).
 #
 # A second table does the same for adversarial traffic: RANDOM_FRAMES frames (default
-# 1,000,000; 0 leaves it out) with a random slave, function code and 0-60 data bytes, each
+# 200,000; 0 leaves it out) with a random slave, function code and 0-60 data bytes, each
 # CRC-valid (tools/bench/random_frames.py), read per byte and a read per frame. There every
 # byte may start a frame of no known length, which ordinary polling never asks of the framer.
 set -euo pipefail
@@ -120,7 +120,7 @@ echo "$count frames; captures: per-byte hex $(size_of perbyte.hex) MB, USB hex $
 echo
 table "$count" "${results[@]}"
 
-random_frames=${RANDOM_FRAMES:-1000000}
+random_frames=${RANDOM_FRAMES:-200000}
 ((random_frames > 0)) || exit 0
 echo "Making captures of $random_frames random frames in $work ..." >&2
 python3 tools/bench/random_frames.py "$random_frames" "$work/random_perbyte.hex" --per-byte

@@ -15,8 +15,6 @@
 namespace rtu {
 namespace {
 
-// Parsing, framing and pairing, when the reader is a FramingAhead's (yields_to_framing).
-constexpr std::size_t kStagesWhenFramingAhead = 3;
 constexpr int kNiceStepsBelowFraming = 3;
 
 }  // namespace
@@ -145,8 +143,8 @@ void ReadAhead::run() {
   // parsing has filled its batches and the pairing has emptied its own, and only the framing
   // runs while a core idles. Three nice levels below the others, parsing takes its share
   // where the framing leaves one (per-byte report: 2 to 4 levels gave the least wall time).
-  if (options_.yields_to_framing) {
-    yield_priority_if_crowded(kStagesWhenFramingAhead, kNiceStepsBelowFraming);
+  if (options_.yields_among_threads > 0) {
+    yield_priority_if_crowded(options_.yields_among_threads, kNiceStepsBelowFraming);
   }
   for (;;) {
     auto batch = queue_->acquire();

@@ -33,10 +33,11 @@ struct ReadAheadOptions {
   // instead of one read() each; for a consumer that reads to the end and never needs to stop
   // between two reads.
   bool whole_byte_runs = false;
-  // This is the lightest of three threads (parsing, framing, pairing); where they outnumber
-  // the cores, the reading thread lowers its priority so that the framing, the busiest, keeps
-  // its core (a per-byte report: 5-7% less wall time on two).
-  bool yields_to_framing = false;
+  // The threads of the pipeline whose lightest this reading thread is, itself included (the
+  // replay's parsing, framing and pairing: 3), or 0. Where they outnumber the cores, the
+  // reading thread lowers its priority so that the busiest keeps its core (a per-byte report:
+  // 5-7% less wall time on two).
+  std::size_t yields_among_threads = 0;
 };
 
 class ReadAhead final : public CaptureReader {

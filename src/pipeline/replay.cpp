@@ -268,6 +268,10 @@ FramingAhead::Setup framing_setup(const CaptureSurvey& survey, const ReplayOptio
   return setup;
 }
 
+// The threads of a replay whose reader parses ahead: parsing (the lightest), framing, and
+// pairing with all that follows it.
+constexpr std::size_t kThreadsParsingAhead = 3;
+
 // How one decoding pass is laid over the threads. Framing runs on the reading thread
 // (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead, for
 // reads of more than one byte) or the pass may end early (options.enough: it then ends at a
@@ -299,7 +303,7 @@ class DecodingRun {
           std::move(reader), ReadAheadOptions{.alongside = alongside,
                                               .hand_over_records = !survey.use_chunks,
                                               .whole_byte_runs = true,
-                                              .yields_to_framing = true});
+                                              .yields_among_threads = kThreadsParsingAhead});
       alongside = nullptr;
     }
     // The parser, when there is one, is owned by the framing from here on.

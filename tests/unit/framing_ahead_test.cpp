@@ -88,7 +88,7 @@ std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks
     reader = std::make_unique<ReadAhead>(std::move(reader),
                                          ReadAheadOptions{.hand_over_records = !setup.use_chunks,
                                                           .whole_byte_runs = true,
-                                                          .yields_to_framing = true});
+                                                          .yields_among_threads = 3});
   }
   FramingAhead ahead(std::move(reader), setup);
   EXPECT_EQ(ahead.name(), path);

@@ -231,14 +231,14 @@ class NiceNotingReader final : public CaptureReader {
 
 // The nice value a ReadAhead's reading thread reads at, made on a thread that may run on
 // one core only (the reading thread inherits that), relative to the maker's.
-int reading_nice_on_one_core(bool yields_to_framing) {
+int reading_nice_on_one_core(std::size_t yields_among_threads) {
   int relative = 0;
   testing::on_new_thread(1, [&] {
     const int own = testing::nice_of_this_thread();
     int nice = own;
     {
       ReadAhead ahead(std::make_unique<NiceNotingReader>(nice),
-                      {.whole_byte_runs = true, .yields_to_framing = yields_to_framing});
+                      {.whole_byte_runs = true, .yields_among_threads = yields_among_threads});
       ItemTranscript t;
       while (ahead.read(t)) {
       }
@@ -248,14 +248,15 @@ int reading_nice_on_one_core(bool yields_to_framing) {
   return relative;
 }
 
-// Three threads on one core: the reading thread of a FramingAhead's reader (the lightest)
-// yields; any other reading thread does not.
+// Three threads on one core: a reading thread that is the lightest of three (a
+// FramingAhead's reader) yields; one of no such pipeline, or alone, does not.
 TEST(ReadAhead, TheReadingThreadYieldsWhenAskedAndTheCoresAreFewerThanTheThreads) {
   if (testing::nice_of_this_thread() + 3 > 19) {
     GTEST_SKIP() << "already at the lowest priority";
   }
-  EXPECT_EQ(reading_nice_on_one_core(true), 3);
-  EXPECT_EQ(reading_nice_on_one_core(false), 0);
+  EXPECT_EQ(reading_nice_on_one_core(3), 3);
+  EXPECT_EQ(reading_nice_on_one_core(0), 0);
+  EXPECT_EQ(reading_nice_on_one_core(1), 0);
 }
 
 }  // namespace

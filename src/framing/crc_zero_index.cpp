@@ -61,6 +61,11 @@ const Tables& tables() {
   return built;
 }
 
+// A target to a block's base, its end's value taken out: to the next block's base.
+std::uint16_t to_next_block(const Tables& t, std::uint16_t moved) {
+  return t.to_next_low[moved & 0xFFU] ^ t.to_next_high[moved >> 8U];
+}
+
 }  // namespace
 
 void CrcZeroIndex::reach(std::uint64_t to, const std::uint8_t* window, std::uint64_t window_start) {
@@ -117,6 +122,12 @@ void CrcZeroIndex::note_matches(CrcScan& scan, std::uint16_t target, std::uint64
   }
 }
 
+CrcZeroIndex::CrcZeroIndex() : initial_(tables().initial.data()) {}
+
+std::uint16_t CrcZeroIndex::moved_on(std::uint16_t target, std::uint64_t block) const {
+  return to_next_block(tables(), target ^ block_end_[block % kEnds]);
+}
+
 void CrcZeroIndex::note_zeros(CrcScan& scan, std::size_t length, const std::uint8_t* window,
                               std::uint64_t window_start) {
   if (length <= scan.scanned) return;
@@ -133,8 +144,8 @@ void CrcZeroIndex::note_zeros(CrcScan& scan, std::size_t length, const std::uint
   const std::size_t in_block = std::min(length, kBlock - 1 - offset);
   if (shortest <= in_block) note_matches(scan, target, start + shortest, start + in_block);
   if (length <= in_block) return;
-  const std::uint16_t moved = target ^ block_end_[((start - origin_) / kBlock) % kEnds];
-  const std::uint16_t next_target = t.to_next_low[moved & 0xFFU] ^ t.to_next_high[moved >> 8U];
+  const std::uint16_t next_target =
+      to_next_block(t, target ^ block_end_[((start - origin_) / kBlock) % kEnds]);
   note_matches(scan, next_target, start + std::max(shortest, in_block + 1), start + length);
 }
 

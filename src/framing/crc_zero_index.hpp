@@ -43,8 +43,45 @@ class CrcZeroIndex {
   // CRC from scan.start is zero, and sets scan.scanned to `length`. `window` holds the
   // stream's bytes from position `window_start` on, up to at least scan.start + length;
   // window_start never moves back between calls, and scan.start is at or after it.
+  CrcZeroIndex();
+
   void note_zeros(CrcScan& scan, std::size_t length, const std::uint8_t* window,
                   std::uint64_t window_start);
+
+  // The values themselves, for what compares them position by position as the window
+  // grows (QuietStarts' watches). compute_through() makes every position up to `to` hold
+  // one, with `window` as in note_zeros(). The values and targets below belong to a chain
+  // of blocks, which starts anew (another chain()) where bytes left the window before
+  // they were looked at: a target of one chain means nothing in another.
+  void compute_through(std::uint64_t to, const std::uint8_t* window, std::uint64_t window_start) {
+    window_start_ = window_start;
+    // Inline, the answer when there is nothing to compute: asked at every watch made.
+    if (origin_ == kNone || computed_ < window_start || computed_ < to) {
+      reach(to, window, window_start);
+    }
+  }
+  [[nodiscard]] std::uint64_t chain() const { return origin_; }
+  // Whether `position` holds a value of the current chain.
+  [[nodiscard]] bool holds(std::uint64_t position) const {
+    return origin_ != kNone && origin_ <= position && position <= computed_ &&
+           computed_ - position < kReach;
+  }
+  // The block of a position it holds: values and targets are to that block's base.
+  [[nodiscard]] std::uint64_t block_of(std::uint64_t position) const {
+    return (position - origin_) / kBlock;
+  }
+  [[nodiscard]] std::uint16_t value_at(std::uint64_t position) const {
+    return value_[position % kReach];
+  }
+  // The value at which the CRC from `start` (a position it holds) comes out zero, to the
+  // start's block: the CRC of [start, q) is zero exactly where value_at(q) is this, for q
+  // in that block.
+  [[nodiscard]] std::uint16_t target_of(std::uint64_t start) const {
+    return value_[start % kReach] ^ initial_[(start - origin_) % kBlock];
+  }
+  // A target to block `block`, moved to the next block's base (once that block's end was
+  // computed): for q in the next block.
+  [[nodiscard]] std::uint16_t moved_on(std::uint16_t target, std::uint64_t block) const;
 
  private:
   static constexpr std::size_t kEnds = 32;  // blocks in reach, rounded up to a power of 2
@@ -59,6 +96,8 @@ class CrcZeroIndex {
   void note_matches(CrcScan& scan, std::uint16_t target, std::uint64_t from,
                     std::uint64_t to) const;
 
+  // A^-o I by offset o in a block: the initial register's term in a start's target.
+  const std::uint16_t* initial_;
   std::uint64_t origin_ = kNone;               // the first block's start
   std::uint64_t computed_ = 0;                 // the last position with a value
   std::array<std::uint16_t, kReach> value_{};  // by position % kReach, to its block's base

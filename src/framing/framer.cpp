@@ -422,7 +422,10 @@ void Framer::run_quiet_watch_on_to(std::uint64_t end) {
       return;
     }
   }
-  quiet_starts_.run_on({bytes_.data() + begin_ + from, buffered() - from}, end);
+  if (quiet_starts_.any_crc_watched()) {
+    crc_zeros_.compute_through(end, bytes_.data() + begin_, consumed_);
+  }
+  quiet_starts_.run_on(crc_zeros_, end);
 }
 
 // Whether the CRC search from `pos`, extended over the bytes that came since, still found
@@ -433,15 +436,17 @@ bool Framer::crc_scan_still_quiet(std::size_t pos) const {
 }
 
 // The start at `pos`, remembered as `quiet` and found still quiet, is watched from here on
-// where it waits on no CRC search, or its search runs on byte by byte up to the window end.
+// where it waits on no CRC search, or its search covers the window up to its end (the
+// watch takes it on from there, see quiet_starts.hpp).
 void Framer::watch(std::size_t pos, const QuietStart& quiet) {
   if (!quiet.watch_crc_scan) {
-    quiet_starts_.watch(quiet, 0);
+    quiet_starts_.watch(quiet, crc_zeros_);
     return;
   }
   const CrcScan* scan = crc_scans_.find(quiet.start, resolution_);
-  if (scan != nullptr && scan->crc_known && scan->scanned == buffered() - pos) {
-    quiet_starts_.watch(quiet, scan->crc);
+  if (scan != nullptr && scan->scanned == buffered() - pos) {
+    crc_zeros_.compute_through(consumed_ + buffered(), bytes_.data() + begin_, consumed_);
+    quiet_starts_.watch(quiet, crc_zeros_);
   }
 }
 

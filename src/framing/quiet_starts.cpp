@@ -3,32 +3,43 @@
 #include <algorithm>
 #include <bit>
 
-#include "core/crc16.hpp"
-
 namespace rtu {
 
-void QuietStarts::watch(const QuietStart& quiet, std::uint16_t crc) {
+bool QuietStarts::watch(const QuietStart& quiet, const CrcZeroIndex& zeros) {
   if (quiet.epoch != epoch_) {
     unwatch_every();
     epoch_ = quiet.epoch;
   }
   const std::size_t slot = quiet.start % kSlots;
-  const std::uint64_t bit = std::uint64_t{1} << (slot % 64);
-  std::size_t index = index_of_[slot];
-  if (!test(watched_, slot)) {
-    watched_[slot / 64] |= bit;
-    index = watchers_++;
-    watch_slot_[index] = static_cast<std::uint16_t>(slot);
+  unwatch_slot(slot);  // a watch made again starts afresh
+  if (quiet.watch_crc_scan) {
+    if (!zeros.holds(quiet.start) || !zeros.holds(through_)) return false;
+    if (crc_watchers_ > 0 && zeros.chain() != chain_) unwatch_crc_every();
+    if (crc_watchers_ == 0) {
+      chain_ = zeros.chain();
+      block_ = zeros.block_of(through_);
+    }
+    // The target to the block of the window end: the start's own, or the one after it
+    // (a search reaches no further, see CrcZeroIndex).
+    std::uint16_t target = zeros.target_of(quiet.start);
+    const std::uint64_t start_block = zeros.block_of(quiet.start);
+    if (start_block + 1 == block_) {
+      target = zeros.moved_on(target, start_block);
+    } else if (start_block != block_) {
+      return false;
+    }
+    const std::size_t index = crc_watchers_++;
+    crc_slot_[index] = static_cast<std::uint16_t>(slot);
+    target_[index] = target;
     index_of_[slot] = static_cast<std::uint16_t>(index);
   }
-  until_[index] = quiet.until;
-  crc_[index] = crc;
-  crc_ends_[index] = quiet.watch_crc_scan;
-  if (quiet.pending) {
-    pending_[slot / 64] |= bit;
-  } else {
-    pending_[slot / 64] &= ~bit;
-  }
+  const std::uint64_t bit = std::uint64_t{1} << (slot % 64);
+  watched_[slot / 64] |= bit;
+  if (quiet.pending) pending_[slot / 64] |= bit;
+  ++watchers_;
+  until_[slot] = quiet.until;
+  file_due(slot, through_);
+  return true;
 }
 
 std::uint64_t QuietStarts::skip_watched(std::uint64_t from, std::uint64_t to,
@@ -54,56 +65,119 @@ std::uint64_t QuietStarts::skip_watched(std::uint64_t from, std::uint64_t to,
   return to;
 }
 
-void QuietStarts::run_on(std::span<const std::uint8_t> bytes, std::uint64_t through) {
+void QuietStarts::run_on(const CrcZeroIndex& zeros, std::uint64_t through) {
+  const std::uint64_t from = through_;
   through_ = through;
-  if (bytes.size() == 1) {
-    run_on_one(bytes[0], through);
+  if (crc_watchers_ > 0) {
+    if (zeros.chain() != chain_ || !zeros.holds(through)) {
+      unwatch_crc_every();  // the values the targets were made for are gone
+    } else {
+      for (std::uint64_t position = from + 1; position <= through && crc_watchers_ > 0;
+           ++position) {
+        const std::uint64_t block = zeros.block_of(position);
+        if (block != block_) move_targets_to(zeros, block);
+        const std::uint16_t value = zeros.value_at(position);
+        if (any_target_is(value)) unwatch_targets(value);
+      }
+    }
+  }
+  expire(from, through);
+}
+
+void QuietStarts::move_targets_to(const CrcZeroIndex& zeros, std::uint64_t block) {
+  if (block != block_ + 1) {
+    unwatch_crc_every();
     return;
   }
-  for (std::size_t i = 0; i < watchers_;) {
-    std::uint16_t crc = crc_[i];
-    bool zero = false;
-    for (const std::uint8_t b : bytes) {
-      crc = crc16_update(crc, b);
-      zero = zero || crc == 0;
+  for (std::size_t i = 0; i < crc_watchers_;) {
+    // A target moves on once: a start in an earlier block would have reached its until.
+    if (zeros.block_of(slots_[crc_slot_[i]].start) != block_) {
+      unwatch_slot(crc_slot_[i]);  // the last watch moves to i: it is looked at next
+    } else {
+      target_[i] = zeros.moved_on(target_[i], block_);
+      ++i;
     }
-    crc_[i] = crc;
-    if (through >= until_[i] || (zero && crc_ends_[i])) {
-      unwatch_at(i);  // the last watch moves to i: it is looked at next
+  }
+  block_ = block;
+}
+
+bool QuietStarts::any_target_is(std::uint16_t value) const {
+  std::uint16_t hits = 0;
+  for (std::size_t i = 0; i < crc_watchers_; ++i) {
+    hits |= static_cast<std::uint16_t>(target_[i] == value);
+  }
+  return hits != 0;
+}
+
+void QuietStarts::unwatch_targets(std::uint16_t value) {
+  for (std::size_t i = 0; i < crc_watchers_;) {
+    if (target_[i] == value) {
+      unwatch_slot(crc_slot_[i]);  // the last watch moves to i: it is looked at next
     } else {
       ++i;
     }
   }
 }
 
-// run_on() over one byte, what per-byte reads bring: kept apart, it is the framer's
-// hottest loop on a stretch that forms nothing.
-void QuietStarts::run_on_one(std::uint8_t byte, std::uint64_t through) {
-  for (std::size_t i = 0; i < watchers_;) {
-    // Every register runs on, watched search or not: a branch per start cost more.
-    const std::uint16_t crc = crc16_update(crc_[i], byte);
-    crc_[i] = crc;
-    if ((through >= until_[i]) | ((crc == 0) & crc_ends_[i])) {
-      unwatch_at(i);  // the last watch moves to i: it is looked at next
-    } else {
-      ++i;
+void QuietStarts::file_due(std::size_t slot, std::uint64_t through) {
+  const std::uint64_t due = std::min<std::uint64_t>(until_[slot], through + kDue - 1);
+  const auto at = static_cast<std::uint16_t>(due % kDue);
+  const std::uint16_t first = due_first_[at];
+  due_next_[slot] = first;
+  due_previous_[slot] = kNoSlot;
+  if (first != kNoSlot) due_previous_[first] = static_cast<std::uint16_t>(slot);
+  due_first_[at] = static_cast<std::uint16_t>(slot);
+  due_at_[slot] = at;
+}
+
+void QuietStarts::unfile_due(std::size_t slot) {
+  const std::uint16_t next = due_next_[slot];
+  const std::uint16_t previous = due_previous_[slot];
+  if (previous == kNoSlot) {
+    due_first_[due_at_[slot]] = next;
+  } else {
+    due_next_[previous] = next;
+  }
+  if (next != kNoSlot) due_previous_[next] = previous;
+}
+
+void QuietStarts::expire(std::uint64_t from, std::uint64_t through) {
+  const std::uint64_t last = std::min(through, from + kDue);  // the ring once round at most
+  for (std::uint64_t position = from + 1; position <= last && watchers_ > 0; ++position) {
+    std::uint16_t slot = due_first_[position % kDue];
+    while (slot != kNoSlot) {
+      const std::uint16_t next = due_next_[slot];
+      if (until_[slot] <= through) {
+        unwatch_slot(slot);
+      } else {
+        unfile_due(slot);  // it waited at the ring's end: further on now
+        file_due(slot, through);
+      }
+      slot = next;
     }
   }
 }
 
-void QuietStarts::unwatch_at(std::size_t index) {
-  const std::size_t slot = watch_slot_[index];
+void QuietStarts::unwatch_watched(std::size_t slot) {
   const std::uint64_t clear = ~(std::uint64_t{1} << (slot % 64));
   watched_[slot / 64] &= clear;
   pending_[slot / 64] &= clear;
-  const std::size_t last = --watchers_;
+  --watchers_;
+  unfile_due(slot);
+  if (crc_watched(slot)) unwatch_crc_at(index_of_[slot]);
+}
+
+void QuietStarts::unwatch_crc_at(std::size_t index) {
+  const std::size_t last = --crc_watchers_;
   if (index != last) {
-    watch_slot_[index] = watch_slot_[last];
-    until_[index] = until_[last];
-    crc_[index] = crc_[last];
-    crc_ends_[index] = crc_ends_[last];
-    index_of_[watch_slot_[index]] = static_cast<std::uint16_t>(index);
+    crc_slot_[index] = crc_slot_[last];
+    target_[index] = target_[last];
+    index_of_[crc_slot_[index]] = static_cast<std::uint16_t>(index);
   }
+}
+
+void QuietStarts::unwatch_crc_every() {
+  while (crc_watchers_ > 0) unwatch_slot(crc_slot_[crc_watchers_ - 1]);
 }
 
 void QuietStarts::unwatch_slots(std::uint64_t first, std::size_t count) {
@@ -111,9 +185,17 @@ void QuietStarts::unwatch_slots(std::uint64_t first, std::size_t count) {
 }
 
 void QuietStarts::unwatch_every() {
+  // The ring's lists hold watched slots only: emptied where those are.
+  for (std::size_t word = 0; word < kWords && watchers_ > 0; ++word) {
+    for (std::uint64_t bits = watched_[word]; bits != 0; bits &= bits - 1) {
+      due_first_[due_at_[word * 64 + static_cast<std::size_t>(std::countr_zero(bits))]] = kNoSlot;
+      --watchers_;
+    }
+  }
   watched_.fill(0);
   pending_.fill(0);
   watchers_ = 0;
+  crc_watchers_ = 0;
 }
 
 }  // namespace rtu

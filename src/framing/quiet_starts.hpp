@@ -20,14 +20,18 @@
 // rate): some 250 starts wait. So a start found still quiet is also *watched*: the framer
 // steps over watched starts 64 at a time (a bit each, and a second one where the answer
 // waits for bytes), and what can end a watch is checked here for all watched starts at once
-// as the window grows: the window reaching `until`, and for a start that waits on its CRC
-// search a zero of its CRC register (kept here and run on over each new byte) or a
-// silence. Watching only ever answers "still quiet"; anything else ends it, and the
-// start's own search answers again.
+// as the window grows: the window reaching `until` (the watches filed by it), and for a
+// start that waits on its CRC search a zero of its CRC or a silence. The zero is not found
+// by running each watched start's CRC on over each byte (that was half the framer's time
+// on noise): CrcZeroIndex gives every position one value and every start a target, equal
+// exactly where the CRC from the start comes out zero, so each new position compares its
+// value with the watched targets, all at once. Watching only ever answers "still quiet";
+// anything else ends it, and the start's own search answers again.
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <span>
+
+#include "framing/crc_zero_index.hpp"
 
 namespace rtu {
 
@@ -68,10 +72,11 @@ class QuietStarts {
     slots_[quiet.start % kSlots] = quiet;
   }
 
-  // Watches the entry find() just gave, still quiet at window end watched_through(); `crc`:
-  // the register of its CRC search up to there, where it watches that search. Watches of
-  // another epoch than the entry's end.
-  void watch(const QuietStart& quiet, std::uint16_t crc);
+  // Watches the entry find() just gave, still quiet at window end watched_through(). One
+  // that waits on its CRC search is watched only where `zeros` holds the start and the
+  // window end (CrcZeroIndex::compute_through() up to it): returns whether it is watched.
+  // Watches of another epoch than the entry's end.
+  bool watch(const QuietStart& quiet, const CrcZeroIndex& zeros);
   // The answer of a watched start: kNotWatched, or whether it waits for bytes. Valid while
   // the window end is watched_through() and the epoch the one any_watched() was asked with.
   enum Answer : std::uint8_t { kNotWatched = 0, kQuiet = 1, kQuietPending = 2 };
@@ -93,11 +98,14 @@ class QuietStarts {
   [[nodiscard]] bool any_watched(std::uint64_t epoch) const {
     return watchers_ > 0 && epoch == epoch_;
   }
+  // Whether a watch waits on a CRC search: run_on() then needs the values up to its end.
+  [[nodiscard]] bool any_crc_watched() const { return crc_watchers_ > 0; }
 
-  // The window end moved from watched_through() to `through` over `bytes`, with no silence
-  // before any of them: a watch ends where the window reaches its `until`, or where the
-  // CRC search it waits on comes out zero.
-  void run_on(std::span<const std::uint8_t> bytes, std::uint64_t through);
+  // The window end moved from watched_through() to `through`, by a few bytes with no
+  // silence before any of them; `zeros` holds every position up to `through` where
+  // any_crc_watched(). A watch ends where the window reaches its `until`, or where the CRC
+  // search it waits on comes out zero.
+  void run_on(const CrcZeroIndex& zeros, std::uint64_t through);
   // The window end moved to `through` in a way watching does not follow (a silence, several
   // bytes at once): every start answers for itself again.
   void unwatch_all(std::uint64_t through) {
@@ -115,34 +123,66 @@ class QuietStarts {
  private:
   static constexpr std::size_t kSlots = 2048;  // the framer's window
   static constexpr std::size_t kWords = kSlots / 64;
-  void run_on_one(std::uint8_t byte, std::uint64_t through);
   void unwatch_every();
   void unwatch_slots(std::uint64_t first, std::size_t count);
   static bool test(const std::array<std::uint64_t, kWords>& bits, std::size_t slot) {
     return ((bits[slot / 64] >> (slot % 64)) & 1U) != 0;
   }
-  // Ends the watch at `index` of the list: the list's last watch takes its place.
-  void unwatch_at(std::size_t index);
-  void unwatch_slot(std::size_t slot) {
-    if (test(watched_, slot)) unwatch_at(index_of_[slot]);
+  void unwatch_slot(std::size_t slot) {  // inline: asked at every search
+    if (test(watched_, slot)) unwatch_watched(slot);
   }
+  void unwatch_watched(std::size_t slot);
+  // Whether `slot` is in the list of CRC watches (a sparse set: index_of_ may hold anything
+  // for a slot that is not).
+  [[nodiscard]] bool crc_watched(std::size_t slot) const {
+    const std::size_t index = index_of_[slot];
+    return index < crc_watchers_ && crc_slot_[index] == slot;
+  }
+  void unwatch_crc_at(std::size_t index);  // the list's last watch takes its place
+  void unwatch_crc_every();
+  // The CRC watches' targets, to the block of watched_through(), moved on to `block`.
+  void move_targets_to(const CrcZeroIndex& zeros, std::uint64_t block);
+  // Whether any CRC watch's target is `value`: every one compared, branch-free, so that the
+  // compiler compares several at once.
+  [[nodiscard]] bool any_target_is(std::uint16_t value) const;
+  void unwatch_targets(std::uint16_t value);
+  // The watches whose `until` the window reached, moving from `from` to `through`, end.
+  void expire(std::uint64_t from, std::uint64_t through);
+  // Files a watched slot under the position where its watch ends (see due_).
+  void file_due(std::size_t slot, std::uint64_t through);
+  void unfile_due(std::size_t slot);
 
   std::array<QuietStart, kSlots> slots_{};
   // Watched starts, by slot: a bit each, set in `pending_` too where the answer waits for
   // bytes. skip_watched() reads these.
   std::array<std::uint64_t, kWords> watched_{};
   std::array<std::uint64_t, kWords> pending_{};
-  // The same watches as a list, what run_on() reads, side by side: the slot, when the watch
-  // ends, and the CRC register of the search it waits on (where `crc_ends_` is set: else a
-  // zero of it means nothing); and where each watched slot is in the list. run_on() walks
-  // the list at every byte: finding each watch among the bits instead made a watch's step
-  // cost some 30 instructions, and the list's 19.
-  std::array<std::uint16_t, kSlots> watch_slot_{};
-  std::array<std::uint64_t, kSlots> until_{};
-  std::array<std::uint16_t, kSlots> crc_{};
-  std::array<bool, kSlots> crc_ends_{};
-  std::array<std::uint16_t, kSlots> index_of_{};
   std::size_t watchers_ = 0;
+  // The watches that wait on a CRC search, as a list side by side: the slot and the target
+  // (to block `block_` of chain `chain_` of CrcZeroIndex); and where each such slot is in
+  // the list.
+  std::array<std::uint16_t, kSlots> crc_slot_{};
+  alignas(64) std::array<std::uint16_t, kSlots> target_{};
+  std::array<std::uint16_t, kSlots> index_of_{};
+  std::size_t crc_watchers_ = 0;
+  std::uint64_t chain_ = 0;
+  std::uint64_t block_ = 0;
+  // Every watch's `until` by slot, and the watches filed by it: a ring of kDue positions
+  // from the window end on, each with a doubly linked list of the slots whose watch ends
+  // there. One that ends further on waits in the ring's last position and is filed again
+  // from there. Watches end one or a few per byte on noise: a heap of them cost more than
+  // the compares of all their targets.
+  static constexpr std::size_t kDue = 512;  // more than kMaxAdu, a search's reach
+  static constexpr std::uint16_t kNoSlot = UINT16_MAX;
+  std::array<std::uint64_t, kSlots> until_{};
+  std::array<std::uint16_t, kDue> due_first_ = [] {
+    std::array<std::uint16_t, kDue> none{};
+    none.fill(kNoSlot);
+    return none;
+  }();
+  std::array<std::uint16_t, kSlots> due_next_{};
+  std::array<std::uint16_t, kSlots> due_previous_{};
+  std::array<std::uint16_t, kSlots> due_at_{};  // the ring position a watched slot is in
   std::uint64_t through_ = 0;
   std::uint64_t epoch_ = 0;  // of the watched entries
 };

@@ -139,26 +139,33 @@ TEST(QuietStarts, WatchingNoiseChangesNoRecord) {
 // The watch itself: what ends it, and only that.
 TEST(QuietStarts, AWatchEndsAtAZeroOfItsCrcAtItsUntilOrWhenAsked) {
   QuietStarts quiet;
+  CrcZeroIndex zeros;
+  // The stream from position 100 on: a frame.
   const std::vector<std::uint8_t> frame = test::with_crc({7, 0x41, 1, 2, 3});
+  const auto grow_to = [&](std::uint64_t end) {
+    zeros.compute_through(end, frame.data(), 100);
+    quiet.run_on(zeros, end);
+  };
   // Start 100 waits on its CRC search, which has run over the frame's first three bytes.
   const QuietStart searching{100, 1, 100 + kMaxAdu, true, true, false};
   quiet.remember(searching);
   quiet.unwatch_all(103);
-  quiet.watch(searching, crc16({frame.data(), 3}));
+  zeros.compute_through(103, frame.data(), 100);
+  EXPECT_TRUE(quiet.watch(searching, zeros));
   EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kQuietPending);
   // Start 101 waits for a predicted length only, up to window end 106.
   const QuietStart predicted{101, 1, 106, false, false, true};
   quiet.remember(predicted);
-  quiet.watch(predicted, 0);
+  EXPECT_TRUE(quiet.watch(predicted, zeros));
   EXPECT_EQ(quiet.watched_answer(101), QuietStarts::kQuiet);
 
-  quiet.run_on({frame.data() + 3, 1}, 104);  // no zero yet, and 104 is short of 106
+  grow_to(104);  // no zero yet, and 104 is short of 106
   EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kQuietPending);
   EXPECT_EQ(quiet.watched_answer(101), QuietStarts::kQuiet);
-  quiet.run_on({frame.data() + 4, 2}, 106);  // one of the CRC's bytes; the window reaches 106
+  grow_to(106);  // one of the CRC's bytes; the window reaches 106
   EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kQuietPending);
   EXPECT_EQ(quiet.watched_answer(101), QuietStarts::kNotWatched);
-  quiet.run_on({frame.data() + 6, 1}, 107);  // the CRC's last byte: the register is zero
+  grow_to(107);  // the CRC's last byte: the CRC from 100 is zero
   EXPECT_EQ(quiet.watched_answer(100), QuietStarts::kNotWatched);
   EXPECT_FALSE(quiet.any_watched());
 
@@ -167,23 +174,78 @@ TEST(QuietStarts, AWatchEndsAtAZeroOfItsCrcAtItsUntilOrWhenAsked) {
   const QuietStart b{201, 2, 300, false, true, false};
   quiet.remember(a);
   quiet.remember(b);
-  quiet.watch(a, 0);
-  quiet.watch(b, 0);
+  quiet.watch(a, zeros);
+  quiet.watch(b, zeros);
   quiet.unwatch_range(200, 1);
   EXPECT_EQ(quiet.watched_answer(200), QuietStarts::kNotWatched);
   EXPECT_EQ(quiet.watched_answer(201), QuietStarts::kQuietPending);
   quiet.remember(b);
   EXPECT_EQ(quiet.watched_answer(201), QuietStarts::kNotWatched);
-  quiet.watch(b, 0);
+  quiet.watch(b, zeros);
   quiet.unwatch_all(108);
   EXPECT_FALSE(quiet.any_watched());
   EXPECT_EQ(quiet.watched_through(), 108U);
+}
+
+// Watches taken on byte by byte end exactly where their CRC comes out zero, also where
+// the search crosses from one of CrcZeroIndex's blocks into the next (each watch's target
+// moves on there), and stay on everywhere else: checked against the CRC run byte by byte.
+TEST(QuietStarts, WatchedCrcSearchesEndAtTheirZerosAcrossBlocks) {
+  std::mt19937 random(5);
+  std::size_t zeros_met = 0;
+  std::size_t crossings = 0;
+  for (int round = 0; round < 40; ++round) {
+    // Random bytes, with CRC-valid frames laid in from random starts.
+    std::vector<std::uint8_t> stream(1200);
+    for (auto& b : stream) b = static_cast<std::uint8_t>(random() & 0xFFU);
+    for (int f = 0; f < 6; ++f) {
+      const std::size_t at = random() % 1000;
+      const std::size_t length = 4 + random() % 150;
+      const std::uint16_t crc = crc16({stream.data() + at, length - 2});
+      stream[at + length - 2] = static_cast<std::uint8_t>(crc & 0xFFU);
+      stream[at + length - 1] = static_cast<std::uint8_t>(crc >> 8U);
+    }
+    QuietStarts quiet;
+    CrcZeroIndex zeros;
+    const std::uint64_t first = random() % 300;  // the window's start: the chain's origin
+    quiet.unwatch_all(first);
+    // Each start is watched once the window holds it and one more byte, until kMaxAdu on.
+    std::vector<std::uint16_t> crc(stream.size(), kCrcInit);
+    std::vector<bool> live(stream.size(), false);
+    for (std::uint64_t end = first + 1; end <= stream.size(); ++end) {
+      zeros.compute_through(end, stream.data() + first, first);
+      quiet.run_on(zeros, end);
+      for (std::uint64_t start = first; start + 1 < end; ++start) {
+        if (!live[start]) continue;
+        crc[start] = crc16_update(crc[start], stream[end - 1]);
+        const bool ends = crc[start] == 0 || end >= start + kMaxAdu;
+        zeros_met += crc[start] == 0 ? 1U : 0U;
+        const auto block_of = [first](std::uint64_t p) {
+          return (p - first) / CrcZeroIndex::kBlock;
+        };
+        if (crc[start] == 0 && block_of(start) != block_of(end)) ++crossings;
+        ASSERT_EQ(quiet.watched_answer(start) != QuietStarts::kNotWatched, !ends)
+            << "round " << round << " start " << start << " window end " << end;
+        live[start] = !ends;
+      }
+      const std::uint64_t start = end - 1;
+      const QuietStart entry{start, 1, start + kMaxAdu, true, true, false};
+      quiet.remember(entry);
+      zeros.compute_through(end, stream.data() + first, first);
+      ASSERT_TRUE(quiet.watch(entry, zeros));
+      crc[start] = crc16_update(kCrcInit, stream[start]);
+      live[start] = true;
+    }
+  }
+  EXPECT_GT(zeros_met, 200U);  // the laid-in frames' CRCs, met by the watches
+  EXPECT_GT(crossings, 20U);
 }
 
 // skip_watched() answers what asking each start's watched_answer() in turn would, a word of
 // starts at a time, round the ring of slots too.
 TEST(QuietStarts, SkippingWatchedStartsAgreesWithAskingEachOne) {
   std::mt19937 random(11);
+  const CrcZeroIndex no_values;  // no watch here waits on its CRC search
   for (const std::uint64_t base : {std::uint64_t{0}, std::uint64_t{1500}, std::uint64_t{4090}}) {
     QuietStarts quiet;
     quiet.unwatch_all(base + 1024);
@@ -191,7 +253,7 @@ TEST(QuietStarts, SkippingWatchedStartsAgreesWithAskingEachOne) {
       if (random() % 16 == 0) continue;  // a start that is not watched
       const QuietStart entry{start, 1, base + 2000, false, random() % 4 == 0, false};
       quiet.remember(entry);
-      quiet.watch(entry, 0);
+      quiet.watch(entry, no_values);
     }
     for (int ask = 0; ask < 2000; ++ask) {
       const std::uint64_t from = base + random() % 1024;

@@ -62,7 +62,7 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
   advance(chunk.t_end);
   ++chunks_;
   if (n > 1) ++batched_chunks_;
-  last_read_small_ = n < kCrcStepsUpTo;
+  watching_reads_ = n < kCrcStepsUpTo || (n < kWatchedReadsUpTo && buffered() >= kWatchedStretch);
   const auto chunk_size = static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
   // Everything the loop reads, in locals: its stores into the byte window may alias anything
   // (they are uint8_t), so the compiler would otherwise reload each of these at every byte.
@@ -407,11 +407,11 @@ void Framer::note_crc_scan(std::size_t pos, SearchNotes& notes) const {
   notes.until = std::min<std::uint64_t>(notes.until, start + kMaxAdu);
 }
 
-// run_quiet_watch_on() where starts are watched: they run on over a byte or a few, else
-// the watches end (the look-ups of CrcZeroIndex answer a longer extension more cheaply).
+// run_quiet_watch_on() where starts are watched: they run on over a read's bytes, else
+// (more than a packet's) the watches end.
 void Framer::run_quiet_watch_on_to(std::uint64_t end) {
   const std::uint64_t through = quiet_starts_.watched_through();
-  if (through < consumed_ || end - through >= kCrcStepsUpTo) {
+  if (through < consumed_ || end - through >= kWatchedReadsUpTo) {
     quiet_starts_.unwatch_all(end);
     return;
   }
@@ -472,8 +472,17 @@ std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bo
   if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_[slot] = true;
   if (length == 0 && (*pending || answer_may_change_) && !at_end && !notes.next_byte_matters &&
       config_.remember_quiet_starts) {
-    quiet_starts_.remember(
-        QuietStart{start, epoch_, notes.until, notes.watch_crc_scan, *pending, answer_may_change_});
+    const QuietStart quiet{
+        start, epoch_, notes.until, notes.watch_crc_scan, *pending, answer_may_change_};
+    quiet_starts_.remember(quiet);
+    // Watched from here on, as on its next ask would have it (the answer is the same):
+    // asking again first cost each start of a stretch of noise a second look-up of its CRC
+    // search. Not a start that waits for bytes in a short window (a frame coming in on a
+    // healthy bus): a watch there would keep push_if_head_waits() from taking the next
+    // bytes, up to the start's predicted end.
+    if (watchable(pos) && (buffered() >= kWatchedStretch || !*pending) &&
+        notes.until > consumed_ + buffered())
+      watch(pos, quiet);
   }
   return length;
 }

@@ -125,6 +125,16 @@ class Framer {
   // A CRC search extended by fewer bytes than this runs the CRC on over them; by more, it
   // looks its zeros up (CrcZeroIndex).
   static constexpr std::size_t kCrcStepsUpTo = 4;
+  // Waiting starts are watched (see quiet_starts.hpp) across reads of fewer bytes than
+  // kCrcStepsUpTo, and across those of fewer than kWatchedReadsUpTo (a USB adapter's
+  // packet) where the window already holds kWatchedStretch bytes or more: a stretch that
+  // forms nothing (noise, a line read at the wrong baud rate), whose hundreds of starts
+  // wait read after read. A watch costs a compare per watched start and byte, eight at a
+  // time; answering a start again costs a look-up of its CRC search, some 300
+  // instructions. Where frames follow each other, a read's starts are decided with the
+  // next read, and watching them cost random frames read a frame at a time 4%.
+  static constexpr std::size_t kWatchedReadsUpTo = 64;
+  static constexpr std::size_t kWatchedStretch = kMaxAdu;
 
   struct ByteInfo {
     Nanos t_end = 0;
@@ -178,10 +188,10 @@ class Framer {
   bool crc_scan_still_quiet(std::size_t pos) const;
   [[gnu::noinline]] void watch(std::size_t pos, const QuietStart& quiet);
   // Whether a quiet start at `pos` is worth watching (see quiet_starts.hpp): while reads
-  // bring a byte or a few (a longer one ends every watch), and not the head, whose answer
-  // decide_head() asks for apart.
+  // are watched (kWatchedReadsUpTo; a longer one ends every watch), and not the head, whose
+  // answer decide_head() asks for apart.
   [[nodiscard]] bool watchable(std::size_t pos) const {
-    return pos > 0 && last_read_small_ && quiet_starts_.watched_through() == consumed_ + buffered();
+    return pos > 0 && watching_reads_ && quiet_starts_.watched_through() == consumed_ + buffered();
   }
   // The watches of quiet_starts_ brought up to the window end. Asked at every decision:
   // where nothing is watched (nearly always, on traffic that forms frames), that inline.
@@ -234,7 +244,7 @@ class Framer {
   Nanos resolution_;
   std::uint64_t chunks_ = 0;
   std::uint64_t batched_chunks_ = 0;  // reads that returned more than one byte
-  bool last_read_small_ = false;      // fewer than kCrcStepsUpTo bytes: starts are watched
+  bool watching_reads_ = false;       // starts are watched across reads like the last one
 
   std::array<std::uint8_t, kWindow> bytes_{};
   std::array<ByteInfo, kWindow> info_{};
@@ -334,7 +344,7 @@ inline bool Framer::push_first_byte_if_it_waits(std::uint8_t byte, Nanos now,
   info_[end_] = ByteInfo{end, gap, origin, 1, 0};
   ++end_;
   ++chunks_;
-  last_read_small_ = true;
+  watching_reads_ = true;
   last_byte_end_ = end;
   quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
   bool pending = false;
@@ -388,7 +398,7 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
   const std::uint64_t window_end = first_end - 1 + k;
   end_ += k;
   chunks_ += k;
-  last_read_small_ = true;
+  watching_reads_ = true;
   last_byte_end_ = last;
   quiet_starts_.unwatch_all(window_end);  // run_quiet_watch_on() with nothing watched
   silence_search_from_ = window_end;      // the new bytes show no silence

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -92,10 +93,12 @@ TEST(QuietStarts, RememberingChangesNoRecord) {
         {"1 ms reads", bus.batched(1 * kMs), FramerConfig{bus.line(), 1 * kMs}},
         {"16 ms reads", bus.batched(16 * kMs), FramerConfig{bus.line(), 16 * kMs}},
         {"16 ms reads, resolution unknown", bus.batched(16 * kMs), FramerConfig{bus.line(), 0}},
-        // Reads of a few bytes: watched starts run on over two or three bytes at once, and
-        // a read of five ends every watch.
+        // Reads of a few bytes: watched starts run on over two or three bytes at once; over
+        // a USB packet's where a stretch forms nothing, and a longer read ends every watch.
         {"reads of up to 3 bytes", bus.usb(2 * kMs, 3), FramerConfig{bus.line(), 2 * kMs}},
-        {"reads of up to 5 bytes", bus.usb(2 * kMs, 5), FramerConfig{bus.line(), 2 * kMs}}};
+        {"reads of up to 5 bytes", bus.usb(2 * kMs, 5), FramerConfig{bus.line(), 2 * kMs}},
+        {"reads of up to 62 bytes", bus.usb(16 * kMs, 62), FramerConfig{bus.line(), 16 * kMs}},
+        {"reads of up to 100 bytes", bus.usb(64 * kMs, 100), FramerConfig{bus.line(), 64 * kMs}}};
     std::size_t frames = 0;
     for (const auto& reading : readings) {
       const auto with = frame_all(reading.chunks, reading.config, true);
@@ -123,10 +126,14 @@ TEST(QuietStarts, WatchingNoiseChangesNoRecord) {
     bus.add(noise, stretch % 3 == 0 ? 20 * kMs : 0);
     bus.add(test::with_crc({1, 3, 0, 0, 0, 2}), stretch % 2 == 0 ? 5 * kMs : 0);
   }
-  const std::vector<std::pair<std::string, std::vector<Chunk>>> readings = {
-      {"per byte", bus.per_byte()}, {"reads of up to 2 bytes", bus.usb(1 * kMs, 2)}};
-  for (const auto& [name, chunks] : readings) {
-    const FramerConfig config{bus.line(), kNanosPerMicro};
+  // Reads of up to 28 bytes (16 ms of a USB adapter's latency) are watched across once the
+  // window holds a stretch of noise (Framer::kWatchedStretch).
+  const std::vector<std::tuple<std::string, std::vector<Chunk>, Nanos>> readings = {
+      {"per byte", bus.per_byte(), kNanosPerMicro},
+      {"reads of up to 2 bytes", bus.usb(1 * kMs, 2), kNanosPerMicro},
+      {"reads of up to 28 bytes", bus.usb(16 * kMs, 62), 16 * kMs}};
+  for (const auto& [name, chunks, resolution] : readings) {
+    const FramerConfig config{bus.line(), resolution};
     const auto with = frame_all(chunks, config, true);
     const auto without = frame_all(chunks, config, false);
     expect_same_records(with, without, name);

@@ -426,6 +426,10 @@ void Framer::run_quiet_watch_on_to(std::uint64_t end) {
     crc_zeros_.compute_through(end, bytes_.data() + begin_, consumed_);
   }
   quiet_starts_.run_on(crc_zeros_, end);
+  // A start whose CRC search reached the longest frame with no zero, watched for that
+  // alone, is known to start no frame: its next search would say so and settle it.
+  quiet_starts_.take_exhausted(epoch_,
+                               [this](std::uint64_t start) { settled_[start % kWindow] = true; });
 }
 
 // Whether the CRC search from `pos`, extended over the bytes that came since, still found

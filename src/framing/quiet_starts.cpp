@@ -38,6 +38,7 @@ bool QuietStarts::watch(const QuietStart& quiet, const CrcZeroIndex& zeros) {
   if (quiet.pending) pending_[slot / 64] |= bit;
   ++watchers_;
   until_[slot] = quiet.until;
+  exhausts_[slot] = quiet.watch_crc_scan && !quiet.pending && quiet.until == quiet.start + kMaxAdu;
   file_due(slot, through_);
   return true;
 }
@@ -68,6 +69,7 @@ std::uint64_t QuietStarts::skip_watched(std::uint64_t from, std::uint64_t to,
 void QuietStarts::run_on(const CrcZeroIndex& zeros, std::uint64_t through) {
   const std::uint64_t from = through_;
   through_ = through;
+  exhausted_count_ = 0;  // what the last run_on() found is taken or dropped
   if (crc_watchers_ > 0) {
     if (zeros.chain() != chain_ || !zeros.holds(through)) {
       unwatch_crc_every();  // the values the targets were made for are gone
@@ -148,6 +150,8 @@ void QuietStarts::expire(std::uint64_t from, std::uint64_t through) {
     while (slot != kNoSlot) {
       const std::uint16_t next = due_next_[slot];
       if (until_[slot] <= through) {
+        // A zero up to there would have ended the watch first (run_on()).
+        if (exhausts_[slot]) exhausted_[exhausted_count_++] = slots_[slot].start;
         unwatch_slot(slot);
       } else {
         unfile_due(slot);  // it waited at the ring's end: further on now

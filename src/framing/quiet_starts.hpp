@@ -98,6 +98,16 @@ class QuietStarts {
   [[nodiscard]] bool any_watched(std::uint64_t epoch) const {
     return watchers_ > 0 && epoch == epoch_;
   }
+  // Calls settle(start) for each start whose watch the last run_on() ended at the longest frame
+  // with no CRC zero, having waited on nothing else: its search would now answer a final
+  // "no", as it would in any epoch. Only for watches of `epoch` (others are dropped).
+  template <typename Settle>
+  void take_exhausted(std::uint64_t epoch, Settle&& settle) {
+    if (epoch == epoch_) {
+      for (std::size_t i = 0; i < exhausted_count_; ++i) settle(exhausted_[i]);
+    }
+    exhausted_count_ = 0;
+  }
   // Whether a watch waits on a CRC search: run_on() then needs the values up to its end.
   [[nodiscard]] bool any_crc_watched() const { return crc_watchers_ > 0; }
 
@@ -175,6 +185,11 @@ class QuietStarts {
   static constexpr std::size_t kDue = 512;  // more than kMaxAdu, a search's reach
   static constexpr std::uint16_t kNoSlot = UINT16_MAX;
   std::array<std::uint64_t, kSlots> until_{};
+  // By slot: the watch waits on its CRC search alone, up to the longest frame. Where it
+  // ends there, the start goes to exhausted_ for take_exhausted().
+  std::array<bool, kSlots> exhausts_{};
+  std::array<std::uint64_t, kSlots> exhausted_{};
+  std::size_t exhausted_count_ = 0;
   std::array<std::uint16_t, kDue> due_first_ = [] {
     std::array<std::uint16_t, kDue> none{};
     none.fill(kNoSlot);

@@ -248,6 +248,41 @@ TEST(QuietStarts, WatchedCrcSearchesEndAtTheirZerosAcrossBlocks) {
   EXPECT_GT(crossings, 20U);
 }
 
+// A watch that ends at the longest frame with no CRC zero, having waited on its CRC search
+// alone, gives its start up as settled; one that also waits for bytes does not, nor one of
+// another epoch than the one asked about.
+TEST(QuietStarts, AWatchThatReachesTheLongestFrameWithNoZeroIsExhausted) {
+  std::vector<std::uint8_t> stream(600);
+  std::mt19937 random(9);
+  for (auto& b : stream) b = static_cast<std::uint8_t>(random() & 0xFFU);
+  for (const std::uint64_t epoch : {std::uint64_t{1}, std::uint64_t{2}}) {
+    QuietStarts quiet;
+    CrcZeroIndex zeros;
+    quiet.unwatch_all(12);
+    zeros.compute_through(12, stream.data(), 0);
+    const QuietStart searching{10, 1, 10 + kMaxAdu, true, false, true};
+    const QuietStart also_pending{11, 1, 11 + kMaxAdu, true, true, true};
+    quiet.remember(searching);
+    quiet.remember(also_pending);
+    ASSERT_TRUE(quiet.watch(searching, zeros));
+    ASSERT_TRUE(quiet.watch(also_pending, zeros));
+    std::vector<std::uint64_t> settled;
+    for (std::uint64_t end = 13; end <= 11 + kMaxAdu; ++end) {
+      zeros.compute_through(end, stream.data(), 0);
+      quiet.run_on(zeros, end);
+      quiet.take_exhausted(epoch, [&](std::uint64_t start) { settled.push_back(start); });
+    }
+    // These bytes hold no CRC zero from either start (else the watch would have ended
+    // there, and the start would not be given up).
+    EXPECT_FALSE(quiet.any_watched());
+    if (epoch == 1) {
+      EXPECT_EQ(settled, std::vector<std::uint64_t>{10});
+    } else {
+      EXPECT_TRUE(settled.empty());
+    }
+  }
+}
+
 // skip_watched() answers what asking each start's watched_answer() in turn would, a word of
 // starts at a time, round the ring of slots too.
 TEST(QuietStarts, SkippingWatchedStartsAgreesWithAskingEachOne) {

@@ -136,7 +136,7 @@ void CrcZeroIndex::note_zeros(CrcScan& scan, std::size_t length, const std::uint
   reach(start + length, window, window_start);
   const Tables& t = tables();
   const std::size_t offset = (start - origin_) % kBlock;
-  const std::uint16_t target = value_[start % kReach] ^ t.initial[offset];
+  const std::uint16_t target = target_of(start);
   const std::size_t shortest = std::max<std::size_t>(scan.scanned + 1, kMinAdu);
   scan.scanned = static_cast<std::uint16_t>(length);
   if (shortest > length) return;
@@ -144,8 +144,7 @@ void CrcZeroIndex::note_zeros(CrcScan& scan, std::size_t length, const std::uint
   const std::size_t in_block = std::min(length, kBlock - 1 - offset);
   if (shortest <= in_block) note_matches(scan, target, start + shortest, start + in_block);
   if (length <= in_block) return;
-  const std::uint16_t next_target =
-      to_next_block(t, target ^ block_end_[((start - origin_) / kBlock) % kEnds]);
+  const std::uint16_t next_target = to_next_block(t, target ^ block_end_[block_of(start) % kEnds]);
   note_matches(scan, next_target, start + std::max(shortest, in_block + 1), start + length);
 }
 

@@ -10,6 +10,7 @@
 
 #include "capture/byte_arena.hpp"
 #include "capture/consumer_tee.hpp"
+#include "core/thread_name.hpp"
 #include "core/thread_priority.hpp"
 
 namespace rtu {
@@ -138,6 +139,7 @@ ReadAhead::~ReadAhead() {
 }
 
 void ReadAhead::run() {
+  name_this_thread("rtu-read");
   // Three threads on two cores share them evenly whenever all three can run, and parsing,
   // the lightest, then runs ahead while framing, the busiest, waits for a core; later the
   // parsing has filled its batches and the pairing has emptied its own, and only the framing

@@ -7,6 +7,7 @@
 
 #include "capture/byte_arena.hpp"
 #include "capture/consumer_tee.hpp"
+#include "core/thread_name.hpp"
 #include "pipeline/capture_feed.hpp"
 
 namespace rtu {
@@ -127,6 +128,7 @@ FramingAhead::~FramingAhead() {
 }
 
 void FramingAhead::run() {
+  name_this_thread("rtu-framing");
   Handoff handoff;
   DecodePipeline framing(setup_.pipeline, handoff);
   std::function<void(const Chunk&)> tap;

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "core/input_error.hpp"
+#include "core/thread_name.hpp"
 
 namespace rtu {
 namespace {
@@ -108,7 +109,10 @@ MqttClient::MqttClient(MqttClientOptions options) : options_(std::move(options))
   mosquitto_publish_callback_set(mosq_, &MqttClient::on_publish);
   retained_[options_.status_topic] = {options_.status_topic, "online", true};
 
-  starter_ = std::thread([this] { start_connecting(); });
+  starter_ = std::thread([this] {
+    name_this_thread("rtu-mqtt-start");
+    start_connecting();
+  });
 }
 
 void MqttClient::start_connecting() {

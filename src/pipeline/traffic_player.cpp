@@ -6,6 +6,7 @@
 #include <thread>
 #include <utility>
 
+#include "core/thread_name.hpp"
 #include "serial/virtual_bus.hpp"
 
 namespace rtu {
@@ -22,6 +23,7 @@ TrafficPlayer::TrafficPlayer(std::vector<Burst> bursts, unsigned repeat,
     throw;
   }
   thread_ = std::thread([this] {
+    name_this_thread("rtu-player");
     play();
     done_ = true;
   });

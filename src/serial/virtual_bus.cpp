@@ -16,6 +16,7 @@
 
 #include "core/chunk.hpp"
 #include "core/input_error.hpp"
+#include "core/thread_name.hpp"
 #include "serial/custom_baud.hpp"
 
 namespace rtu {
@@ -167,7 +168,10 @@ void VirtualBus::replug(std::size_t endpoint) {
 }
 
 void VirtualBus::start() {
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    name_this_thread("rtu-virtual-bus");
+    run();
+  });
 }
 
 void VirtualBus::stop() {

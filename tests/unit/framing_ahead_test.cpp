@@ -18,6 +18,7 @@
 #include "capture/read_ahead.hpp"
 #include "capture_test_files.hpp"
 #include "core/input_error.hpp"
+#include "core/thread_name.hpp"
 #include "item_transcript.hpp"
 #include "pairing/transaction_tracker.hpp"
 #include "pipeline/capture_feed.hpp"
@@ -80,7 +81,8 @@ std::vector<std::string> decoded_directly(const std::string& path, bool with_chu
 // `parse_ahead`: the reader runs in a ReadAhead of its own that hands runs of one-byte reads
 // over whole, as a replay of a per-byte capture does. `items`, if given, gets items_read().
 std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks,
-                                       bool parse_ahead = false, std::uint64_t* items = nullptr) {
+                                       bool parse_ahead = false, std::uint64_t* items = nullptr,
+                                       CaptureConsumer* alongside = nullptr) {
   std::unique_ptr<CaptureReader> reader = open_capture(path, [](std::string_view) {});
   Transcript out;
   const auto setup = setup_for(*reader, with_chunks ? &out : nullptr);
@@ -90,7 +92,7 @@ std::vector<std::string> decoded_ahead(const std::string& path, bool with_chunks
                                                           .whole_byte_runs = true,
                                                           .yields_among_threads = 3});
   }
-  FramingAhead ahead(std::move(reader), setup);
+  FramingAhead ahead(std::move(reader), setup, alongside);
   EXPECT_EQ(ahead.name(), path);
   TransactionTracker tracker(TrackerConfig{setup.info.response_timeout}, out);
   try {
@@ -261,6 +263,36 @@ TEST(FramingAhead, AConsumerAlongsideSeesEveryItemAndTheReaderIsAskedOnlyAtTheEn
     EXPECT_EQ(source.bytes_read(), ahead.bytes_read());
     EXPECT_GT(ahead.items_read(), 3 * FramingAhead::kBatchSteps);
   }
+}
+
+// Notes the name of the thread that delivers it the capture's first item.
+class ThreadNameNotingConsumer final : public CaptureConsumer {
+ public:
+  void on_chunk(const Chunk& /*chunk*/) override { note(); }
+  void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {
+    note();
+  }
+  void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
+                std::uint64_t /*origin*/) override {
+    note();
+  }
+  void on_end(Nanos /*t*/) override { note(); }
+
+  std::string name;
+
+ private:
+  void note() {
+    if (name.empty()) name = this_thread_name();
+  }
+};
+
+// The framing runs on a thread named for it (ps -L, top -H, perf show which stage is busy).
+TEST(FramingAhead, FramesOnAThreadNamedForFraming) {
+  const testing::TempDir dir;
+  ThreadNameNotingConsumer alongside;
+  decoded_ahead(write_long_capture(dir, false), false, false, nullptr, &alongside);
+  EXPECT_EQ(alongside.name, "rtu-framing");
 }
 
 }  // namespace

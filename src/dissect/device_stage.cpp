@@ -51,10 +51,24 @@ void DeviceStage::on_record(Record& record) {
     next_.on_record(record);
     return;
   }
+  if (record.role == Role::kRequest) {
+    // Here, in place, not copied into reading_: it is needed only while the record is passed.
+    const DataAccess access = data_access(record, nullptr);
+    reading_.request_access = &access;
+    decode_and_pass(record);
+  } else {
+    reading_.request_access = nullptr;
+    decode_and_pass(record);
+  }
+  reading_.request_access = nullptr;
+}
+
+void DeviceStage::decode_and_pass(Record& record) {
   const std::uint8_t slave = record.slave();
   reading_.map = table_.map_of(slave);
   if (reading_.map != nullptr) {
-    decoder_.decode(*reading_.map, table_.state(slave), record, reading_.decoded);
+    decoder_.decode(*reading_.map, table_.state(slave), record, reading_.request_access,
+                    reading_.decoded);
     record.issues.merge(reading_.decoded.issues);
   } else {
     reading_.decoded.clear();

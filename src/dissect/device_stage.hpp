@@ -12,6 +12,7 @@
 #include "dissect/raw_values.hpp"
 #include "dissect/register_decoder.hpp"
 #include "framing/record.hpp"
+#include "modbus/data_access.hpp"
 
 namespace rtu::dissect {
 
@@ -24,6 +25,10 @@ struct DeviceReading {
   // points with a value, rounded to their decimals, or raw registers for a slave without a
   // map. Only normal responses carry any (carries_values).
   std::vector<PointValue> values;
+  // For a request frame, what it accesses (data_access(frame, nullptr)): found once by the
+  // stage for the map's decoding and the sinks after it (the report files requests by it),
+  // instead of once in each. Null for other records.
+  const DataAccess* request_access = nullptr;
 };
 
 class DeviceStage final : public RecordSink {
@@ -37,6 +42,8 @@ class DeviceStage final : public RecordSink {
   void on_finish() override { next_.on_finish(); }
 
  private:
+  // on_record() for a frame, with reading_.request_access set.
+  void decode_and_pass(Record& frame);
   void collect_values(const Record& frame);
 
   DeviceTable& table_;

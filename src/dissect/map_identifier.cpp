@@ -98,7 +98,7 @@ void MapIdentifier::on_request(const Record& request, std::vector<Candidate>& ca
     const Coverage cov = access_coverage(*space, access);
     c.evidence.units += cov.units;
     c.evidence.defined_units += cov.defined;
-    decoder_.decode(map, c.state, request, decoded_);
+    decoder_.decode(map, c.state, request, &access, decoded_);
     for (const auto& p : decoded_.points) {
       if (p.point == nullptr || !p.has_value || p.spare_index > 0) continue;
       const bool ranged = p.point->min.has_value() || !p.point->enums.empty();

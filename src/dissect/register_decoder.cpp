@@ -5,8 +5,6 @@
 #include <cstring>
 #include <span>
 
-#include "modbus/data_access.hpp"
-
 namespace rtu::dissect {
 namespace {
 
@@ -224,8 +222,26 @@ const EnumEntry* find_enum(const Point& point, std::int64_t value) {
   return nullptr;
 }
 
+namespace {
+
+// A request's writes are decoded; its reads are only checked against the map.
+void decode_request(const DeviceMap& map, const Space& space, SlaveState& state,
+                    const DataAccess& access, Decoded& out) {
+  for (const DataBlock& b : access) {
+    BlockContext c{map, space, state, out, b.write, true};
+    if (b.write) {
+      decode_write(c, b);
+    } else {
+      check_read_range(c, b.addr, b.qty);
+    }
+  }
+  apply_scale_by(out, state);
+}
+
+}  // namespace
+
 void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Record& frame,
-                             Decoded& out) {
+                             const DataAccess* request_access, Decoded& out) {
   out.clear();
   out.map = &map;
   if (state.vars.size() != map.vars.size()) state.reset(map);
@@ -240,15 +256,11 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
       return;
     }
     out.space = space;
-    for (const DataBlock& b : data_access(frame, nullptr)) {
-      BlockContext c{map, *space, state, out, b.write, true};
-      if (b.write) {
-        decode_write(c, b);
-      } else {
-        check_read_range(c, b.addr, b.qty);
-      }
+    if (request_access != nullptr) {
+      decode_request(map, *space, state, *request_access, out);
+    } else {
+      decode_request(map, *space, state, data_access(frame, nullptr), out);
     }
-    apply_scale_by(out, state);
     return;
   }
 

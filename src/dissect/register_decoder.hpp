@@ -15,6 +15,7 @@
 #include "core/issue.hpp"
 #include "dissect/device_map.hpp"
 #include "framing/record.hpp"
+#include "modbus/data_access.hpp"
 
 namespace rtu::dissect {
 
@@ -60,7 +61,13 @@ class RegisterDecoder {
   // Decodes `frame` (its role and, for a response, `frame.request` set by pairing) into
   // `out` (cleared first) and updates `state`. Frames it cannot relate to the map (unknown
   // role, exception responses, CRC failures) leave `out` empty.
-  void decode(const DeviceMap& map, SlaveState& state, const Record& frame, Decoded& out);
+  void decode(const DeviceMap& map, SlaveState& state, const Record& frame, Decoded& out) {
+    decode(map, state, frame, nullptr, out);
+  }
+  // The same, for a caller that already knows what a request frame accesses
+  // (data_access(frame, nullptr)); null: it is found here. Unused for other frames.
+  void decode(const DeviceMap& map, SlaveState& state, const Record& frame,
+              const DataAccess* request_access, Decoded& out);
 
  private:
   Decoded scratch_;  // confirmed writes are decoded here to learn from them

@@ -120,13 +120,12 @@ LogHistogram TrafficStats::all_latencies() const {
 
 namespace {
 
-RequestKind kind_of(const Record& request) {
+RequestKind kind_of(const Record& request, const DataAccess& access) {
   RequestKind k;
   k.slave = request.slave();
   k.function = request.function();
   // The range read, else the one written: FC23 is told apart by what it reads. A mask write
   // (FC22) is listed by its function alone, as RequestKind documents.
-  const DataAccess access = data_access(request, nullptr);
   const DataBlock* b = access.read() != nullptr ? access.read() : access.write();
   if (b != nullptr && k.function != fc::kMaskWriteRegister) {
     k.has_range = true;
@@ -134,6 +133,14 @@ RequestKind kind_of(const Record& request) {
     k.qty = b->qty;
   }
   return k;
+}
+
+// The device stage, where one ran, found what the request accesses already.
+RequestKind kind_of(const Record& request) {
+  if (request.device != nullptr && request.device->request_access != nullptr) {
+    return kind_of(request, *request.device->request_access);
+  }
+  return kind_of(request, data_access(request, nullptr));
 }
 
 // A damaged frame that still reads as a request: an address a request can carry (not a

@@ -65,10 +65,16 @@ class FramingAhead::Handoff final : public PairingInput {
   void fill(Batch& batch) { batch_ = &batch; }
 
   void on_capture(const CaptureInfo& info) override {
+    tell_advance();
     batch_->capture = info;
     batch_->steps.push_back(Step{Step::Kind::kCapture, 0, 0});
   }
   void on_record(Record& record) override {
+    // The tracker's on_record() first advances to the record's start: an advance to no later
+    // than that, right before it, does exactly what that does (a request times out either
+    // way before the record is handled), and need not cross the threads (one a read).
+    if (advance_pending_ && advanced_ > record.t_start) tell_advance();
+    advance_pending_ = false;
     Batch& batch = *batch_;
     if (batch.records_used == batch.records.size()) batch.records.emplace_back();
     batch.records[batch.records_used].copy_in_use(record);
@@ -78,22 +84,28 @@ class FramingAhead::Handoff final : public PairingInput {
   // The tracker's advance() only compares `now` with the waiting request's deadline, so
   // with no record between, a call no later than the previous one does nothing, and two
   // calls in a row act as the later one alone: such calls need not cross the threads (one
-  // per read otherwise).
+  // per read otherwise). The latest is held until the next step shows whether it is needed.
   void advance(Nanos now) override {
     if (!record_since_advance_ && now <= advanced_) return;
-    Batch& batch = *batch_;
-    if (!record_since_advance_ && !batch.steps.empty() &&
-        batch.steps.back().kind == Step::Kind::kAdvance) {
-      batch.steps.back().t = now;
-    } else {
-      batch.steps.push_back(Step{Step::Kind::kAdvance, now, 0});
-    }
     advanced_ = now;
     record_since_advance_ = false;
+    advance_pending_ = true;
   }
-  void on_finish() override { batch_->steps.push_back(Step{Step::Kind::kFinish, 0, 0}); }
+  void on_finish() override {
+    tell_advance();
+    batch_->steps.push_back(Step{Step::Kind::kFinish, 0, 0});
+  }
+
+  // The advance held, as a step of its own; called before any step but a record, and at the
+  // end of each batch.
+  void tell_advance() {
+    if (!advance_pending_) return;
+    batch_->steps.push_back(Step{Step::Kind::kAdvance, advanced_, 0});
+    advance_pending_ = false;
+  }
 
   void on_chunk(const Chunk& chunk) {
+    tell_advance();
     Batch& batch = *batch_;
     ChunkItem& item = batch.chunks.emplace_back();
     item.t_end = chunk.t_end;
@@ -108,6 +120,7 @@ class FramingAhead::Handoff final : public PairingInput {
   Batch* batch_ = nullptr;
   Nanos advanced_ = 0;
   bool record_since_advance_ = true;
+  bool advance_pending_ = false;  // advanced_ is still to be told
 };
 
 FramingAhead::FramingAhead(std::unique_ptr<CaptureReader> reader, Setup setup,
@@ -170,6 +183,7 @@ void FramingAhead::run() {
         if (!batch->error) batch->error = std::current_exception();
       }
     }
+    handoff.tell_advance();
     batch->bytes_read = reader_->bytes_read();
     const bool last = batch->last;
     queue_->publish(std::move(batch));

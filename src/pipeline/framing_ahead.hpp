@@ -6,9 +6,10 @@
 // left most of it on the decoding one.
 //
 // The tracker is told exactly what a DecodePipeline's own tracker would be told (capture
-// start, records, decided times, finish), in the same order and with the same contents, and
-// an `on_chunk` callback sees each raw read at the same point of that sequence as in
-// CaptureFeed; so the output of a run never depends on the threads.
+// start, records, decided times, finish), in the same order and with the same contents,
+// but for a decided time that the next record's start covers (the tracker advances to that
+// start itself), and an `on_chunk` callback sees each raw read at the same point of that
+// sequence as in CaptureFeed; so the output of a run never depends on the threads.
 //
 // Memory is bounded: at most kBatches batches of about kBatchSteps steps or kBatchBytes raw
 // bytes exist at a time (a batch is checked between reader items, and a ReadAhead inside

@@ -31,6 +31,9 @@ struct FramingAhead::ChunkItem {
 
 struct FramingAhead::Batch {
   std::vector<Step> steps;
+  // Advances the next record covered (Handoff::on_record): they count towards a full batch
+  // as the steps they were, so a batch holds as many records as it did with them.
+  std::size_t advances_untold = 0;
   // Kept across batches so each Record is built once; the first `records_used` are this
   // batch's.
   std::vector<Record> records;
@@ -45,6 +48,7 @@ struct FramingAhead::Batch {
 
   void clear() {
     steps.clear();
+    advances_untold = 0;
     records_used = 0;
     chunks.clear();
     arena.clear();
@@ -55,7 +59,7 @@ struct FramingAhead::Batch {
     error = nullptr;
   }
   [[nodiscard]] bool full() const {
-    return steps.size() >= kBatchSteps || arena.size() >= kBatchBytes;
+    return steps.size() + advances_untold >= kBatchSteps || arena.size() >= kBatchBytes;
   }
 };
 
@@ -73,9 +77,15 @@ class FramingAhead::Handoff final : public PairingInput {
     // The tracker's on_record() first advances to the record's start: an advance to no later
     // than that, right before it, does exactly what that does (a request times out either
     // way before the record is handled), and need not cross the threads (one a read).
-    if (advance_pending_ && advanced_ > record.t_start) tell_advance();
-    advance_pending_ = false;
     Batch& batch = *batch_;
+    if (advance_pending_) {
+      if (advanced_ > record.t_start) {
+        tell_advance();
+      } else {
+        ++batch.advances_untold;
+        advance_pending_ = false;
+      }
+    }
     if (batch.records_used == batch.records.size()) batch.records.emplace_back();
     batch.records[batch.records_used].copy_in_use(record);
     batch.steps.push_back(Step{Step::Kind::kRecord, 0, batch.records_used++});

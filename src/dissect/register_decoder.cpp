@@ -140,30 +140,6 @@ void decode_block(BlockContext& c, const DataBlock& b) {
   }
 }
 
-// Checks a read request's range against the map: undefined addresses, and whether it
-// starts or ends inside a point.
-void check_read_range(BlockContext& c, std::uint32_t start, std::uint32_t quantity) {
-  const bool bytewise = c.space.addressing == Addressing::kByte;
-  const std::uint32_t units = bytewise ? quantity * 2 : quantity;
-  const std::uint32_t end = start + units;
-  std::uint32_t a = start;
-  while (a < end) {
-    const Point* p = c.space.point_at(a);
-    if (p == nullptr) {
-      c.out.issues.add(IssueId::kUndefinedRegister);
-      const Point* next = c.space.point_from(a);
-      if (next == nullptr) break;
-      a = next->addr;
-      continue;
-    }
-    const std::uint32_t value_end = p->addr + p->value_units(c.space.addressing);
-    if ((a > p->addr && a < value_end) || (end > p->addr && end < value_end)) {
-      c.out.issues.add(IssueId::kPartialPoint);
-    }
-    a = p->addr + p->units(c.space.addressing);
-  }
-}
-
 void apply_learning(const Decoded& d, SlaveState& state) {
   for (const auto& pt : d.points) {
     if (pt.point != nullptr && pt.has_value && pt.point->learn) {
@@ -226,13 +202,13 @@ namespace {
 
 // A request's writes are decoded; its reads are only checked against the map.
 void decode_request(const DeviceMap& map, const Space& space, SlaveState& state,
-                    const DataAccess& access, Decoded& out) {
+                    const DataAccess& access, ReadRangeChecks& read_checks, Decoded& out) {
   for (const DataBlock& b : access) {
-    BlockContext c{map, space, state, out, b.write, true};
     if (b.write) {
+      BlockContext c{map, space, state, out, true, true};
       decode_write(c, b);
     } else {
-      check_read_range(c, b.addr, b.qty);
+      out.issues.merge(read_checks.of(space, b.addr, b.qty));
     }
   }
   apply_scale_by(out, state);
@@ -257,9 +233,9 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
     }
     out.space = space;
     if (request_access != nullptr) {
-      decode_request(map, *space, state, *request_access, out);
+      decode_request(map, *space, state, *request_access, read_checks_, out);
     } else {
-      decode_request(map, *space, state, data_access(frame, nullptr), out);
+      decode_request(map, *space, state, data_access(frame, nullptr), read_checks_, out);
     }
     return;
   }

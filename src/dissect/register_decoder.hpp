@@ -14,6 +14,7 @@
 
 #include "core/issue.hpp"
 #include "dissect/device_map.hpp"
+#include "dissect/read_range_checks.hpp"
 #include "framing/record.hpp"
 #include "modbus/data_access.hpp"
 
@@ -70,7 +71,8 @@ class RegisterDecoder {
               const DataAccess* request_access, Decoded& out);
 
  private:
-  Decoded scratch_;  // confirmed writes are decoded here to learn from them
+  Decoded scratch_;
+  ReadRangeChecks read_checks_;  // confirmed writes are decoded here to learn from them
 };
 
 // The enum text of a point's value, or null when the value is not listed.

@@ -235,8 +235,9 @@ IssueSet check_pdu(const DecodedPdu& pdu);
 // byte count vs quantity (kByteCount), echo differs for FC05/06/08/21/22 and MEI (kEchoMismatch),
 // FC15/16 start address or quantity differ (kAddressMismatch).
 IssueSet check_response_fits(const Record& request, const Record& response);
-// The same, with `response` already decoded (decode_pdu(response, Role::kResponse)).
-IssueSet check_response_fits(const Record& request, const Record& response,
-                             const DecodedPdu& decoded_response);
+// The same, with both already decoded (decode_pdu(request, Role::kRequest) and
+// decode_pdu(response, Role::kResponse)).
+IssueSet check_response_fits(const Record& request, const DecodedPdu& decoded_request,
+                             const Record& response, const DecodedPdu& decoded_response);
 
 }  // namespace rtu

@@ -188,13 +188,14 @@ IssueSet check_pdu(const DecodedPdu& pdu) {
 
 IssueSet check_response_fits(const Record& request, const Record& response) {
   if (response.is_exception() || request.function() != response.function()) return {};
-  return check_response_fits(request, response, decode_pdu(response, Role::kResponse));
+  return check_response_fits(request, decode_pdu(request, Role::kRequest), response,
+                             decode_pdu(response, Role::kResponse));
 }
 
-IssueSet check_response_fits(const Record& request, const Record& response, const DecodedPdu& rsp) {
+IssueSet check_response_fits(const Record& request, const DecodedPdu& req, const Record& response,
+                             const DecodedPdu& rsp) {
   IssueSet issues;
   if (response.is_exception() || request.function() != response.function()) return issues;
-  const DecodedPdu req = decode_pdu(request, Role::kRequest);
   const PduHeader& rq = pdu_header(req);
   const PduHeader& rs = pdu_header(rsp);
 

@@ -60,15 +60,23 @@ void TransactionTracker::on_record(Record& record) {
 
 void TransactionTracker::handle_request(Record& frame) {
   if (has_open_) close_open(!answered_);
-  // Content checks only where the CRC vouches for the content.
-  if (frame.crc_ok) frame.issues.merge(check_pdu(decode_pdu(frame, Role::kRequest)));
+  // Content checks only where the CRC vouches for the content (here and below).
   if (expects_no_response(frame)) {
+    if (frame.crc_ok) frame.issues.merge(check_pdu(decode_pdu(frame, Role::kRequest)));
     frame.txn = next_txn_++;
     emit(frame);
     return;
   }
   // Only the bytes in use: a whole Record is 360 bytes, most of them unused storage.
   open_.copy_in_use(frame);
+  if (open_.crc_ok) {
+    // Decoded from the tracker's own copy, which stays as it is while the request is open:
+    // its answer is checked against it without decoding it again.
+    open_pdu_ = decode_pdu(open_, Role::kRequest);
+    const IssueSet found = check_pdu(open_pdu_);
+    open_.issues.merge(found);
+    frame.issues.merge(found);
+  }
   has_open_ = true;
   answered_ = false;
   released_ = false;
@@ -107,7 +115,7 @@ void TransactionTracker::handle_response(Record& frame) {
   if (frame.crc_ok) {
     const DecodedPdu pdu = decode_pdu(frame, Role::kResponse);
     frame.issues.merge(check_pdu(pdu));
-    if (open_.crc_ok) frame.issues.merge(check_response_fits(open_, frame, pdu));
+    if (open_.crc_ok) frame.issues.merge(check_response_fits(open_, open_pdu_, frame, pdu));
   }
   out_.on_record(frame);
   frame.request = nullptr;

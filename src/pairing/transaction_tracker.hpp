@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "framing/record.hpp"
+#include "modbus/pdu.hpp"
 #include "pairing/pairing_input.hpp"
 
 namespace rtu {
@@ -27,6 +28,9 @@ struct TrackerConfig {
 class TransactionTracker final : public PairingInput {
  public:
   TransactionTracker(const TrackerConfig& config, RecordSink& out);
+  // Not copied: open_pdu_ views the tracker's own open_.
+  TransactionTracker(const TransactionTracker&) = delete;
+  TransactionTracker& operator=(const TransactionTracker&) = delete;
 
   void on_capture(const CaptureInfo& info) override { out_.on_capture(info); }
   void on_record(Record& record) override;
@@ -60,7 +64,8 @@ class TransactionTracker final : public PairingInput {
   TrackerConfig config_;
   RecordSink& out_;
 
-  Record open_;  // the newest request that expects an answer
+  Record open_;          // the newest request that expects an answer
+  DecodedPdu open_pdu_;  // open_ decoded, where its CRC holds (views into open_)
   bool has_open_ = false;
   bool answered_ = false;
   bool released_ = false;                // the open request went out as timed out (advance)

@@ -1,5 +1,6 @@
 #include "dissect/read_range_checks.hpp"
 
+#include <algorithm>
 #include <bit>
 
 namespace rtu::dissect {
@@ -28,9 +29,15 @@ IssueSet read_range_issues(const Space& space, std::uint32_t start, std::uint32_
   return issues;
 }
 
+ReadRangeChecks::ReadRangeChecks(unsigned slot_bits)
+    : slot_bits_(std::clamp(slot_bits, 1U, 16U)), entries_(std::size_t{1} << slot_bits_) {}
+
 IssueSet ReadRangeChecks::of(const Space& space, std::uint32_t start, std::uint32_t quantity) {
-  const auto space_bits = static_cast<std::uint32_t>(std::bit_cast<std::uintptr_t>(&space) >> 4U);
-  const std::size_t slot = (start * 31U + quantity * 7U + space_bits) & (kEntries - 1);
+  // Multiplied by an odd constant and its top bits taken, so that every bit of the space's
+  // address and of the range moves the slot.
+  const std::uint64_t key = std::bit_cast<std::uintptr_t>(&space) ^ (std::uint64_t{start} << 32U) ^
+                            (std::uint64_t{quantity} << 16U);
+  const auto slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> (64U - slot_bits_));
   Entry& e = entries_[slot];
   if (e.space != &space || e.start != start || e.quantity != quantity) {
     e = Entry{&space, start, quantity, read_range_issues(space, start, quantity)};

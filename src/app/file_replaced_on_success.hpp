@@ -2,7 +2,9 @@
 // An output file that appears only when the command succeeds: it is written under a
 // temporary name next to it (PATH.partial) and renamed over PATH by commit(). A run that fails
 // (damaged input, a full disk) removes the temporary file, so it never leaves a partial
-// output and never spoils an older file of the same name.
+// output and never spoils an older file of the same name. A path that is already something
+// other than a file (/dev/null, a FIFO a reader waits on, a terminal) is written directly:
+// renaming a file over it would replace the device or pipe with a plain file.
 #include <string>
 
 namespace rtu::app {
@@ -22,6 +24,7 @@ class FileReplacedOnSuccess {
  private:
   std::string path_;
   std::string temporary_;
+  bool direct_ = false;  // path_ is not a regular file: written as it is
   bool committed_ = false;
 };
 

@@ -6,9 +6,12 @@
   tshark with the same gaps.
 - A capture damaged after its first frame: exit 2 with file and line, and no output file, not
   even a partial one; an older file of the same name is left as it was.
+- An output that is a FIFO (as /dev/null, a device) is written into, not replaced by a file:
+  a reader on the other end gets the whole pcapng, which tshark reads.
 """
 import argparse
 import os
+import stat
 import subprocess
 import sys
 
@@ -55,6 +58,28 @@ def main():
     if open(out).read() != "an older file" or os.path.exists(out + ".partial"):
         fail("a failed export left a partial file or changed the older one")
     print("damaged: exit 2 with file:line, no partial output, the older file untouched")
+
+    fifo = os.path.join(args.work, "to_reader.pcapng")
+    os.mkfifo(fifo)
+    copy = os.path.join(args.work, "read_from_fifo.pcapng")
+    with open(copy, "wb") as sink:
+        reader = subprocess.Popen(["cat", fifo], stdout=sink)
+        try:
+            run = subprocess.run([args.rtuscope, "export", early, "-o", fifo, "-q"],
+                                 capture_output=True, text=True, timeout=60)
+            reader.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            reader.kill()
+            fail("export into a FIFO: the reader never got an end (the FIFO was not written)")
+    if run.returncode != 0:
+        fail(f"export into a FIFO: exit {run.returncode}: {run.stderr}")
+    if not stat.S_ISFIFO(os.stat(fifo).st_mode) or os.path.exists(fifo + ".partial"):
+        fail("export into a FIFO replaced it with a file or left a partial one")
+    frames = subprocess.run([args.tshark, "-r", copy, "-T", "fields", "-e", "frame.number"],
+                            capture_output=True, text=True, timeout=60).stdout.split()
+    if frames != ["1", "2"]:
+        fail(f"the pcapng read from the FIFO: tshark found frames {frames}")
+    print("FIFO: written into, still a FIFO, its reader got 2 frames")
 
 
 if __name__ == "__main__":

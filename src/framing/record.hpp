@@ -16,6 +16,7 @@ namespace rtu {
 namespace dissect {
 struct DeviceReading;  // what the device stage adds; declared only, so no include runs upward
 }
+struct FramePdu;  // the tracker's decoding of a frame (modbus/pdu.hpp); declared only, likewise
 
 inline constexpr std::size_t kMaxAdu = 256;  // MODBUS over Serial Line §2.5.1
 inline constexpr std::size_t kMinAdu = 4;    // address + function + CRC
@@ -53,6 +54,10 @@ struct Record {
   Nanos latency = kUnknownTime;  // response only: request end → response start
   // For a response: its request, valid only during RecordSink::on_record. Else null.
   const Record* request = nullptr;
+  // The frame decoded as its role, where the tracker decoded it (CRC valid, role decided),
+  // valid only during RecordSink::on_record; else null, and a stage that needs the decoding
+  // makes it (decode_pdu). It is what decode_pdu(*this, role) gives, made once.
+  const FramePdu* pdu = nullptr;
 
   // Filled by the device stage (dissect/device_stage.hpp) for the sinks after it, valid only
   // during their on_record: the slave's map, the decoded points, values. Null for noise and
@@ -78,6 +83,7 @@ struct Record {
     txn = -1;
     latency = kUnknownTime;
     request = nullptr;
+    pdu = nullptr;
     device = nullptr;
   }
 
@@ -100,6 +106,7 @@ struct Record {
     txn = other.txn;
     latency = other.latency;
     request = other.request;
+    pdu = nullptr;  // it may view the other record's bytes: a holder sets its own
     device = other.device;
   }
 
@@ -111,7 +118,7 @@ struct Record {
 
 // A field added to Record must be reset by reset_keeping_storage() and copied by copy_in_use()
 // too: this fails until the size below is updated, as a reminder.
-static_assert(sizeof(Record) == 360,
+static_assert(sizeof(Record) == 368,
               "new Record field: reset it in reset_keeping_storage(), copy it in copy_in_use()");
 
 // Receives records in time order.

@@ -164,18 +164,39 @@ const DataBlock* DataAccess::write() const {
   return nullptr;
 }
 
-DataAccess data_access(const Record& request, const Record* response) {
+namespace {
+
+// The request's blocks, from its decoding.
+DataAccess request_access(const DecodedPdu& req) {
   DataAccess out;
-  const DecodedPdu req = decode_pdu(request, Role::kRequest);
   out.issues = pdu_header(req).issues;
   std::visit(Builder(out), req);
-  if (out.empty() || response == nullptr || response->function() != request.function()) {
-    return out;
-  }
-  const DecodedPdu rsp = decode_pdu(*response, Role::kResponse);
+  return out;
+}
+
+bool response_counts(const DataAccess& out, const Record& request, const Record* response) {
+  return !out.empty() && response != nullptr && response->function() == request.function();
+}
+
+// The read's values, from the response's decoding.
+void add_response(DataAccess& out, const DecodedPdu& rsp) {
   out.issues.merge(pdu_header(rsp).issues);
   for (DataBlock& b : std::span(out.blocks.data(), out.count)) {
     if (!b.write) fill_read(b, rsp);
+  }
+}
+
+}  // namespace
+
+DataAccess data_access(const Record& request, const Record* response) {
+  DataAccess out = request.pdu != nullptr ? request_access(request.pdu->pdu)
+                                          : request_access(decode_pdu(request, Role::kRequest));
+  if (response_counts(out, request, response)) {
+    if (response->pdu != nullptr) {
+      add_response(out, response->pdu->pdu);
+    } else {
+      add_response(out, decode_pdu(*response, Role::kResponse));
+    }
   }
   return out;
 }

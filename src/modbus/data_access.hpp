@@ -71,6 +71,7 @@ struct DataAccess {
 // the same function (an exception, or null, leaves them unknown). Blocks are in the order
 // the device performs them: FC23 writes before it reads. A request that is not a data
 // function, or too short for its fixed fields, accesses nothing.
+// Each record's decoding is the tracker's (Record::pdu) where it made one.
 DataAccess data_access(const Record& request, const Record* response);
 
 }  // namespace rtu

@@ -210,6 +210,12 @@ using DecodedPdu =
                  FileRecordRequest, ReadFileRecordResponse, MaskWrite, ReadWriteMultipleRequest,
                  FifoRequest, FifoResponse, DeviceIdRequest, DeviceIdResponse, MeiPdu>;
 
+// A frame's decoding as the tracker made it, handed to the stages after it (Record::pdu),
+// so that none decodes the frame again. A struct, so that record.hpp can declare it.
+struct FramePdu {
+  DecodedPdu pdu;
+};
+
 // The fields every alternative shares.
 const PduHeader& pdu_header(const DecodedPdu& pdu);
 

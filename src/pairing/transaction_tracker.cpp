@@ -72,15 +72,19 @@ void TransactionTracker::handle_request(Record& frame) {
   if (open_.crc_ok) {
     // Decoded from the tracker's own copy, which stays as it is while the request is open:
     // its answer is checked against it without decoding it again.
-    open_pdu_ = decode_pdu(open_, Role::kRequest);
-    const IssueSet found = check_pdu(open_pdu_);
+    open_pdu_.pdu = decode_pdu(open_, Role::kRequest);
+    const IssueSet found = check_pdu(open_pdu_.pdu);
     open_.issues.merge(found);
     frame.issues.merge(found);
   }
+  // The stages after this one take the decoding with the request, and with its response (as
+  // its request's); both stay until open_ takes the next request, after held_[0] went out.
+  open_.pdu = open_.crc_ok ? &open_pdu_ : nullptr;
   has_open_ = true;
   answered_ = false;
   released_ = false;
   held_[0].copy_in_use(frame);
+  held_[0].pdu = open_.pdu;
   held_count_ = 1;
 }
 
@@ -112,13 +116,19 @@ void TransactionTracker::handle_response(Record& frame) {
   }
   answered_ = true;
   frame.request = &open_;
+  // Passed straight on, never held: the decoding may live on this stack.
+  FramePdu decoded;
   if (frame.crc_ok) {
-    const DecodedPdu pdu = decode_pdu(frame, Role::kResponse);
-    frame.issues.merge(check_pdu(pdu));
-    if (open_.crc_ok) frame.issues.merge(check_response_fits(open_, open_pdu_, frame, pdu));
+    decoded.pdu = decode_pdu(frame, Role::kResponse);
+    frame.issues.merge(check_pdu(decoded.pdu));
+    if (open_.crc_ok) {
+      frame.issues.merge(check_response_fits(open_, open_pdu_.pdu, frame, decoded.pdu));
+    }
+    frame.pdu = &decoded;
   }
   out_.on_record(frame);
   frame.request = nullptr;
+  frame.pdu = nullptr;
 }
 
 void TransactionTracker::close_open(bool timed_out) {

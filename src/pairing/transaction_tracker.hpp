@@ -64,8 +64,10 @@ class TransactionTracker final : public PairingInput {
   TrackerConfig config_;
   RecordSink& out_;
 
-  Record open_;          // the newest request that expects an answer
-  DecodedPdu open_pdu_;  // open_ decoded, where its CRC holds (views into open_)
+  Record open_;  // the newest request that expects an answer
+  // open_ decoded, where its CRC holds (views into open_); open_.pdu and held_[0].pdu point
+  // to it then.
+  FramePdu open_pdu_;
   bool has_open_ = false;
   bool answered_ = false;
   bool released_ = false;                // the open request went out as timed out (advance)

@@ -108,7 +108,11 @@ void JsonlWriter::on_record(Record& record) {
   if (is_frame) {
     // An exception's object is written above, with the device's own name when it has one.
     if (!(record.is_exception() && record.size >= 3)) {
-      write_pdu_json(json, decode_pdu(record, record.role));
+      if (record.pdu != nullptr) {
+        write_pdu_json(json, record.pdu->pdu);  // the tracker's decoding, as its role
+      } else {
+        write_pdu_json(json, decode_pdu(record, record.role));
+      }
     }
     if (map != nullptr) {
       json.field("device", std::string_view(map->model));

@@ -36,7 +36,11 @@ void append_frame_summary(fmt::memory_buffer& out, const Record& frame) {
   }
   // The function already has its own column: leave out the summary's leading name.
   fmt::memory_buffer summary;
-  append_pdu_summary(summary, decode_pdu(frame, frame.role));
+  if (frame.pdu != nullptr) {
+    append_pdu_summary(summary, frame.pdu->pdu);  // the tracker's decoding, as its role
+  } else {
+    append_pdu_summary(summary, decode_pdu(frame, frame.role));
+  }
   std::string_view text(summary.data(), summary.size());
   const std::string_view name = function_short_name(frame.function());
   if (text.size() > name.size() && text.substr(0, name.size()) == name &&

@@ -188,7 +188,7 @@ bool PcapImporter::next(PcapItem& out) {
     if (packet_.link_type == pcap::kLinkTypeUpperPdu) {
       have_packet_ = false;
       UpperPdu pdu;
-      if (!parse_upper_pdu(packet_.data, pdu, error)) {
+      if (!upper_pdu_.parse(packet_.data, pdu, error)) {
         fail(fmt::format("{}: offset {}: upper-PDU record: {}", name(), at, error));
       }
       if (pdu.dissector != upper_pdu::kModbusRtuDissector && pdu.dissector != "data") {

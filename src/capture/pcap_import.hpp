@@ -26,6 +26,7 @@
 
 #include "capture/capture_file.hpp"
 #include "capture/pcap_reader.hpp"
+#include "capture/upper_pdu.hpp"
 #include "core/chunk.hpp"
 #include "core/input_error.hpp"
 #include "serial/line_settings.hpp"
@@ -82,6 +83,7 @@ class PcapImporter {
   [[noreturn]] void fail(std::string message);
   std::uint8_t port_of(std::uint32_t section, std::uint32_t interface_id);
   std::unique_ptr<PcapReader> reader_;
+  UpperPduReader upper_pdu_;
   CapturePacket packet_;
   bool have_packet_ = false;
   bool ended_ = false;

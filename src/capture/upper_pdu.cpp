@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cstring>
 
 #include "capture/byte_order.hpp"
 #include "capture/field_cursor.hpp"
@@ -111,6 +112,41 @@ bool parse_upper_pdu(std::span<const std::uint8_t> record, UpperPdu& pdu, std::s
       default: break;  // addresses, frame numbers …: not needed
     }
   }
+}
+
+bool UpperPduReader::parse(std::span<const std::uint8_t> record, UpperPdu& pdu,
+                           std::string& error) {
+  for (const Header& known : headers_) {
+    if (known.size != 0 && record.size() >= known.size &&
+        std::memcmp(record.data(), known.bytes.data(), known.size) == 0) {
+      pdu = known.pdu;
+      pdu.payload = record.subspan(known.size);
+      return true;
+    }
+  }
+  if (!parse_upper_pdu(record, pdu, error)) return false;
+  remember(record, pdu);
+  return true;
+}
+
+void UpperPduReader::remember(std::span<const std::uint8_t> record, const UpperPdu& pdu) {
+  const std::size_t size = record.size() - pdu.payload.size();
+  if (size == 0 || size > kMaxRemembered) return;
+  Header& header = headers_[replace_next_];
+  replace_next_ = (replace_next_ + 1) % headers_.size();
+  std::memcpy(header.bytes.data(), record.data(), size);
+  header.size = size;
+  header.pdu = pdu;
+  header.pdu.payload = {};
+  // The texts are views into the header: moved to the copy.
+  const auto moved = [&](std::string_view text) {
+    if (text.empty()) return text;
+    const auto at = static_cast<std::size_t>(reinterpret_cast<const std::uint8_t*>(text.data()) -
+                                             record.data());
+    return std::string_view(reinterpret_cast<const char*>(header.bytes.data() + at), text.size());
+  };
+  header.pdu.dissector = moved(pdu.dissector);
+  header.pdu.protocol_column = moved(pdu.protocol_column);
 }
 
 bool mbrtu_declines(std::span<const std::uint8_t> adu) {

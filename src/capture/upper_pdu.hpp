@@ -8,6 +8,7 @@
 // ports, requests 1 → 502 and responses 502 → 1; opened with `-o mbrtu.tcp.port:502`,
 // every function code (echoes of FC05/06/08 included) is classified, decoded and paired.
 // Frames whose role is unknown carry no ports and Wireshark guesses.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -62,6 +63,29 @@ struct UpperPdu {
 // std::optional<UpperPdu> was built on the stack and reloaded in other widths than it was
 // stored in, which stalled the reading of every record.)
 bool parse_upper_pdu(std::span<const std::uint8_t> record, UpperPdu& pdu, std::string& error);
+
+// parse_upper_pdu() for a file's records one after the other. A writer repeats a few
+// headers (the TLVs before the payload: one for requests, one for answers in rtuscope's
+// recordings), and a header met in the last two records is only compared, not parsed again:
+// the parse depends on nothing but those bytes. Same answers as parse_upper_pdu(), except
+// that the views of a remembered header (dissector, protocol_column) point into this
+// object and hold until the next call.
+class UpperPduReader {
+ public:
+  bool parse(std::span<const std::uint8_t> record, UpperPdu& pdu, std::string& error);
+
+ private:
+  // Longer headers are parsed every time (rtuscope's are 40 bytes, Wireshark's about as long).
+  static constexpr std::size_t kMaxRemembered = 64;
+  struct Header {
+    std::array<std::uint8_t, kMaxRemembered> bytes{};
+    std::size_t size = 0;  // 0: none remembered yet
+    UpperPdu pdu;          // its parse; the views into `bytes`, payload empty
+  };
+  void remember(std::span<const std::uint8_t> record, const UpperPdu& pdu);
+  std::array<Header, 2> headers_;
+  std::size_t replace_next_ = 0;
+};
 
 // True when Wireshark's mbrtu dissector declines this ADU (it then shows as Data):
 // broadcast frames (unit 0) and frames shorter than 5 bytes.

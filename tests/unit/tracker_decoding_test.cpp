@@ -27,7 +27,7 @@ std::string described(const DecodedPdu& pdu) {
   json.end_object();
   fmt::memory_buffer summary;
   append_pdu_summary(summary, pdu);
-  return fmt::to_string(fields) + " | " + fmt::to_string(summary);
+  return fmt::format("{} | {}", fmt::to_string(fields), fmt::to_string(summary));
 }
 
 // What a data access says, as text: its blocks, their values and its issues.

@@ -1,7 +1,11 @@
 #include "capture/upper_pdu.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <random>
+#include <string>
 #include <vector>
 
 #include "capture/rtac_serial.hpp"
@@ -70,6 +74,67 @@ TEST(UpperPdu, MalformedTlvsSayWhere) {
   long_tag[3] = 0xF0;
   EXPECT_FALSE(parse_upper_pdu(long_tag, pdu, error));
   EXPECT_EQ(error, "byte 0: tag 12 of length 240 runs past the end of the record");
+}
+
+// Everything a parse says, as text, to compare two parses of the same record.
+std::string described(bool ok, const UpperPdu& pdu, const std::string& error,
+                      std::span<const std::uint8_t> record) {
+  if (!ok) return fmt::format("error: {}", error);
+  const auto port = [](const std::optional<std::uint32_t>& p) {
+    return p ? fmt::format("{}", *p) : std::string("-");
+  };
+  return fmt::format("dissector '{}' column '{}' ports {} {} {} payload at {} of {}", pdu.dissector,
+                     pdu.protocol_column, port(pdu.port_type), port(pdu.source_port),
+                     port(pdu.destination_port), pdu.payload.data() - record.data(),
+                     pdu.payload.size());
+}
+
+// The reader that remembers headers answers every record as parse_upper_pdu() does: on a mix
+// of rtuscope's headers (requests, answers, unknown roles, a protocol column, the 'data'
+// dissector), a header too long to remember, and damaged records in between.
+TEST(UpperPdu, RememberedHeadersAnswerAsAParseOfEachRecord) {
+  std::mt19937 random(7);
+  const std::vector<UpperPduBuild> builds = {
+      {"mbrtu", PduDirection::kRequest, ""},
+      {"mbrtu", PduDirection::kResponse, ""},
+      {"mbrtu", PduDirection::kUnknown, ""},
+      {"mbrtu", PduDirection::kUnknown, "Modbus RTU"},
+      {"data", PduDirection::kUnknown, ""},
+      {"mbrtu", PduDirection::kRequest, std::string(60, 'x')},
+  };
+  UpperPduReader reader;
+  int remembered_answers = 0;
+  for (int i = 0; i < 5000; ++i) {
+    Bytes payload(random() % 20);
+    for (auto& b : payload) b = static_cast<std::uint8_t>(random());
+    Bytes record;
+    build_upper_pdu(payload, builds[random() % builds.size()], record);
+    if (random() % 10 == 0) {
+      // Damaged: a byte of the header changed, or the record cut short.
+      if (random() % 2 == 0 && record.size() > 24) {
+        record[random() % 24] ^= static_cast<std::uint8_t>(1U + random() % 255);
+      } else {
+        record.resize(random() % record.size());
+      }
+    }
+    UpperPdu expected_pdu;
+    std::string expected_error;
+    const bool expected_ok = parse_upper_pdu(record, expected_pdu, expected_error);
+    UpperPdu pdu;
+    std::string error;
+    const bool ok = reader.parse(record, pdu, error);
+    ASSERT_EQ(described(ok, pdu, error, record),
+              described(expected_ok, expected_pdu, expected_error, record))
+        << "record " << i;
+    // The answer does not lean on the record's own bytes for its texts.
+    if (ok && !pdu.dissector.empty() &&
+        (pdu.dissector.data() < reinterpret_cast<const char*>(record.data()) ||
+         pdu.dissector.data() >= reinterpret_cast<const char*>(record.data() + record.size()))) {
+      ++remembered_answers;
+    }
+  }
+  // Most records repeat one of the last two headers.
+  EXPECT_GT(remembered_answers, 1000);
 }
 
 TEST(UpperPdu, WhatMbrtuDeclines) {

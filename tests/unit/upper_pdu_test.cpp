@@ -94,13 +94,11 @@ std::string described(bool ok, const UpperPdu& pdu, const std::string& error,
 // dissector), a header too long to remember, and damaged records in between.
 TEST(UpperPdu, RememberedHeadersAnswerAsAParseOfEachRecord) {
   std::mt19937 random(7);
+  const std::string long_column(60, 'x');  // UpperPduBuild views it
   const std::vector<UpperPduBuild> builds = {
-      {"mbrtu", PduDirection::kRequest, ""},
-      {"mbrtu", PduDirection::kResponse, ""},
-      {"mbrtu", PduDirection::kUnknown, ""},
-      {"mbrtu", PduDirection::kUnknown, "Modbus RTU"},
-      {"data", PduDirection::kUnknown, ""},
-      {"mbrtu", PduDirection::kRequest, std::string(60, 'x')},
+      {"mbrtu", PduDirection::kRequest, ""}, {"mbrtu", PduDirection::kResponse, ""},
+      {"mbrtu", PduDirection::kUnknown, ""}, {"mbrtu", PduDirection::kUnknown, "Modbus RTU"},
+      {"data", PduDirection::kUnknown, ""},  {"mbrtu", PduDirection::kRequest, long_column},
   };
   UpperPduReader reader;
   int remembered_answers = 0;

@@ -224,6 +224,19 @@ const PduHeader& pdu_header(const DecodedPdu& pdu);
 // exception responses and leaves everything else raw.
 DecodedPdu decode_pdu(const Record& frame, Role role);
 
+// The tracker's decoding of the frame (Record::pdu) where it made one in `role`, else null.
+inline const DecodedPdu* tracker_decoding(const Record& frame, Role role) {
+  return frame.pdu != nullptr && frame.role == role ? &frame.pdu->pdu : nullptr;
+}
+// The frame decoded as `role`: tracker_decoding() where there is one, else decode_pdu() into
+// `scratch`. Valid while the frame (and `scratch`) is. `scratch` is built only when needed:
+// this is asked for every frame a writer writes.
+inline const DecodedPdu& decoding_of(const Record& frame, Role role,
+                                     std::optional<DecodedPdu>& scratch) {
+  if (const DecodedPdu* decoded = tracker_decoding(frame, role)) return *decoded;
+  return scratch.emplace(decode_pdu(frame, role));
+}
+
 // Writes the decoded fields as keys into the frame's already-open JSON object. The keys are
 // listed in pdu_json.cpp; they are public and stable.
 void write_pdu_json(JsonWriter& json, const DecodedPdu& pdu);

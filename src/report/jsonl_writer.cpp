@@ -108,11 +108,8 @@ void JsonlWriter::on_record(Record& record) {
   if (is_frame) {
     // An exception's object is written above, with the device's own name when it has one.
     if (!(record.is_exception() && record.size >= 3)) {
-      if (record.pdu != nullptr) {
-        write_pdu_json(json, record.pdu->pdu);  // the tracker's decoding, as its role
-      } else {
-        write_pdu_json(json, decode_pdu(record, record.role));
-      }
+      std::optional<DecodedPdu> scratch;
+      write_pdu_json(json, decoding_of(record, record.role, scratch));
     }
     if (map != nullptr) {
       json.field("device", std::string_view(map->model));

@@ -1,6 +1,7 @@
 #include "report/text_writer.hpp"
 
 #include <iterator>
+#include <optional>
 
 #include "core/function_codes.hpp"
 #include "core/time_format.hpp"
@@ -36,11 +37,8 @@ void append_frame_summary(fmt::memory_buffer& out, const Record& frame) {
   }
   // The function already has its own column: leave out the summary's leading name.
   fmt::memory_buffer summary;
-  if (frame.pdu != nullptr) {
-    append_pdu_summary(summary, frame.pdu->pdu);  // the tracker's decoding, as its role
-  } else {
-    append_pdu_summary(summary, decode_pdu(frame, frame.role));
-  }
+  std::optional<DecodedPdu> scratch;
+  append_pdu_summary(summary, decoding_of(frame, frame.role, scratch));
   std::string_view text(summary.data(), summary.size());
   const std::string_view name = function_short_name(frame.function());
   if (text.size() > name.size() && text.substr(0, name.size()) == name &&

@@ -476,9 +476,8 @@ std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bo
   if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_[slot] = true;
   if (length == 0 && (*pending || answer_may_change_) && !at_end && !notes.next_byte_matters &&
       config_.remember_quiet_starts) {
-    const QuietStart quiet{
-        start, epoch_, notes.until, notes.watch_crc_scan, *pending, answer_may_change_};
-    quiet_starts_.remember(quiet);
+    const QuietStart& quiet = quiet_starts_.remember(
+        start, epoch_, notes.until, notes.watch_crc_scan, *pending, answer_may_change_);
     // Watched from here on, as on its next ask would have it (the answer is the same):
     // asking again first cost each start of a stretch of noise a second look-up of its CRC
     // search. Not a start that waits for bytes in a short window (a frame coming in on a

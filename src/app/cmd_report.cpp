@@ -48,15 +48,21 @@ struct Analysis {
 std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& capture,
                                 ReplayOptions options, const CaptureSurvey& survey, bool alongside,
                                 std::unique_ptr<DeviceSetup> devices, ProgressLine& progress) {
-  // Slaves no option names are identified from a first look at the capture (a sample, done
-  // in a moment: the line stays where it is meanwhile). One survey serves both passes.
-  if (!args.no_identify) {
-    identify_models(*devices, options, args.identify_frames,
-                    [&](const ReplayOptions& o, RecordSink& sink) {
-                      ReplayOptions silent = o;
-                      silent.on_progress = nullptr;
-                      decode_capture(capture, survey, silent, sink);
-                    });
+  // Slaves no option names are identified from a first look at the capture: a sample that
+  // the decoding looks at before it decodes the sample with what it found. The whole capture
+  // (--identify-frames 0) is too much to hold meanwhile: it gets a pass of its own, which
+  // shares the survey.
+  std::optional<IdentifyingLook> look;
+  if (!args.no_identify && !devices->library.maps().empty()) {
+    if (args.identify_frames > 0) {
+      options.first_look = &look.emplace(*devices, args.identify_frames);
+    } else {
+      identify_from_whole_capture(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
+        ReplayOptions silent = o;
+        silent.on_progress = nullptr;
+        decode_capture(capture, survey, silent, sink);
+      });
+    }
   }
   Analysis analysis{std::move(devices), nullptr};
   analysis.stats = std::make_unique<TrafficStats>(&analysis.devices->table);

@@ -1,12 +1,14 @@
 #pragma once
 // Slaves no option names get the model the MapIdentifier is confident about, from a first
-// look at the capture's first frames (the first pass of `report`). The models go into the device
-// table that the device stage decodes with in the second pass; configured slaves keep theirs.
+// look at the capture's first frames (`report`). The models go into the device table that the
+// device stage decodes with, before it decodes the first frame; configured slaves keep theirs.
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 #include "app/device_options.hpp"
 #include "framing/record.hpp"
+#include "pipeline/first_look.hpp"
 #include "pipeline/replay.hpp"
 
 namespace rtu::app {
@@ -21,11 +23,36 @@ inline constexpr std::uint64_t kIdentifySampleFrames = 200'000;
 // and 2,000 show every register block a master polls many times over.
 inline constexpr std::uint64_t kIdentifyRequestsPerSlave = 2'000;
 
-// Runs `feed` once with a MapIdentifier (reader warnings off) over the first `sample_frames`
-// frames, a byte of noise counting as a frame (0 = all, and every request weighed), and
-// assigns what it is sure of. An InputError in this pass is left for the next pass to raise,
-// with everything before the damage identified.
-void identify_models(DeviceSetup& devices, const ReplayOptions& options,
-                     std::uint64_t sample_frames, const TrafficFeed& feed);
+// Identification in the decoding pass itself (ReplayOptions::first_look): the pass's first
+// `sample_frames` frames (> 0), a byte of noise counting as a frame, go to a MapIdentifier
+// first, and before the sink gets any of them the slaves get what it is sure of. The sample
+// also ends where the records held for the sink reach FirstLook::kMaxHeldBytes: 200,000
+// frames of 256 bytes would hold about 60 MB, and a third of them identify as well.
+class IdentifyingLook final : public FirstLook {
+ public:
+  IdentifyingLook(DeviceSetup& devices, std::uint64_t sample_frames);
+  ~IdentifyingLook() override;
+  IdentifyingLook(const IdentifyingLook&) = delete;
+  IdentifyingLook& operator=(const IdentifyingLook&) = delete;
+  IdentifyingLook(IdentifyingLook&&) = delete;
+  IdentifyingLook& operator=(IdentifyingLook&&) = delete;
+
+  PairingInput& start_look(const CaptureInfo& info) override;
+  [[nodiscard]] bool seen_enough() const override;
+  void conclude() override;
+
+ private:
+  struct Sample;
+  DeviceSetup& devices_;
+  std::uint64_t sample_frames_;
+  std::unique_ptr<Sample> sample_;
+};
+
+// Runs `feed` once to the end with a MapIdentifier (reader warnings off) that weighs every
+// request, and assigns what it is sure of: identification from the whole capture, which is
+// too long to hold for an IdentifyingLook. An InputError in this pass is left for the next
+// pass to raise, with everything before the damage identified.
+void identify_from_whole_capture(DeviceSetup& devices, const ReplayOptions& options,
+                                 const TrafficFeed& feed);
 
 }  // namespace rtu::app

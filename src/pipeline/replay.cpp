@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -17,6 +18,7 @@
 #include "framing/timing_estimator.hpp"
 #include "pairing/transaction_tracker.hpp"
 #include "pipeline/capture_feed.hpp"
+#include "pipeline/first_look_gate.hpp"
 #include "pipeline/framing_ahead.hpp"
 #include "pipeline/line_inference.hpp"
 #include "pipeline/line_warnings.hpp"
@@ -217,20 +219,28 @@ PipelineOptions pipeline_options(const CaptureSurvey& survey, const ReplayOption
   return result;
 }
 
-// Pass 2 over `reader`, as `survey` says, into `sink`, all framing and pairing on this thread:
-// a pass that may end early (options.enough) ends at a reader's item. `only_pass`: no survey
-// pass came first.
+// Pass 2 over `reader`, as `survey` says, into `sink`, all framing and pairing on this thread.
+// `only_pass`: no survey pass came first.
 void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
                  RecordSink& sink, bool only_pass) {
   const CaptureInfo& info = survey.info;
-  DecodePipeline pipeline(pipeline_options(survey, options), sink);
+  // A first look needs the pairing apart from the framing, to stand between them.
+  TransactionTracker tracker(TrackerConfig{info.response_timeout}, sink);
+  FirstLookGate gate(options.first_look, tracker);
+  std::optional<DecodePipeline> framing_and_pairing;
+  if (options.first_look != nullptr) {
+    framing_and_pairing.emplace(pipeline_options(survey, options),
+                                static_cast<PairingInput&>(gate));
+  } else {
+    framing_and_pairing.emplace(pipeline_options(survey, options), sink);
+  }
+  DecodePipeline& pipeline = *framing_and_pairing;
   pipeline.start(info);
   CaptureFeed feed(pipeline, survey.use_chunks, info.line.char_time(), options.on_chunk);
   PassProgress decode_progress(reader, ReplayProgress::Pass::kDecode, options, only_pass);
   try {
     while (reader.read(feed)) {
       decode_progress.tick();
-      if (options.enough && options.enough()) break;
     }
   } catch (...) {
     decode_progress.done();
@@ -247,10 +257,11 @@ void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOpt
 void decode_pass(FramingAhead& ahead, const ReplayOptions& options, RecordSink& sink,
                  bool only_pass) {
   TransactionTracker tracker(TrackerConfig{ahead.setup().info.response_timeout}, sink);
+  FirstLookGate gate(options.first_look, tracker);
   PassProgress decode_progress([&ahead] { return ahead.bytes_read(); }, ahead.input_size(),
                                ReplayProgress::Pass::kDecode, options, only_pass);
   try {
-    while (ahead.deliver(tracker)) decode_progress.reached(ahead.items_read());
+    while (ahead.deliver(gate)) decode_progress.reached(ahead.items_read());
   } catch (...) {
     decode_progress.done();
     throw;
@@ -274,10 +285,9 @@ constexpr std::size_t kThreadsParsingAhead = 3;
 
 // How one decoding pass is laid over the threads. Framing runs on the reading thread
 // (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead, for
-// reads of more than one byte) or the pass may end early (options.enough: it then ends at a
-// reader's item, which only a ReadAhead can tell). Where reads hold one byte each, parsing costs as
-// much as framing, and where the caller asks (ReplayOptions::parse_ahead): the reader then runs in
-// a ReadAhead of its own inside the FramingAhead. `alongside` (optional) sees every item on the
+// reads of more than one byte). Where reads hold one byte each, parsing costs as much as
+// framing, and where the caller asks (ReplayOptions::parse_ahead): the reader then runs in a
+// ReadAhead of its own inside the FramingAhead. `alongside` (optional) sees every item on the
 // parsing thread where there is one, else on the thread that frames them.
 class DecodingRun {
  public:
@@ -287,7 +297,7 @@ class DecodingRun {
     // One-byte reads cost as much to parse as to frame: they are framed ahead on a thread of
     // their own, as the parsing is (below), whatever the caller's frame_ahead says.
     const bool frame_ahead = options.frame_ahead || survey.single_byte_reads;
-    if (!frame_ahead || options.enough) {
+    if (!frame_ahead) {
       parser_ =
           std::make_unique<ReadAhead>(std::move(reader), ReadAheadOptions{.alongside = alongside});
       return;
@@ -436,9 +446,7 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
                                              const ReplayOptions& options, RecordSink& sink) {
   HeldWarnings passing;
   Survey alongside;
-  ReplayOptions to_the_end = options;
-  to_the_end.enough = nullptr;
-  DecodingRun run(open(passing.sink()), survey, to_the_end, &alongside);
+  DecodingRun run(open(passing.sink()), survey, options, &alongside);
   // What survey_capture would have said, now that the whole capture was read.
   const auto surveyed = [&] {
     const CaptureReader& source = run.source();

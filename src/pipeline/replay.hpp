@@ -24,6 +24,7 @@
 #include "framing/capture_info.hpp"
 #include "framing/record.hpp"
 #include "pipeline/decode_pipeline.hpp"
+#include "pipeline/first_look.hpp"
 
 namespace rtu {
 
@@ -52,9 +53,9 @@ struct ReplayOptions {
   bool show_warnings = true;
   // Told every kProgressEvery records and at the end of each pass, when set.
   std::function<void(const ReplayProgress&)> on_progress;
-  // Asked after every record of the decoding pass, when set: true ends the pass there, as
-  // if the capture ended (a bounded sample, such as identification's).
-  std::function<bool()> enough;
+  // Takes its look at the decoding pass's first records before the sink gets any (not owned;
+  // optional): identification's sample, in the pass that decodes with what it found.
+  FirstLook* first_look = nullptr;
   // Which core frames. Framing on the reading thread (FramingAhead) halves the decoding
   // core's work, which pays where the sink's work is at least the framing's (reports,
   // decode). An export's sink does little, so it frames on the decoding core and leaves the
@@ -108,9 +109,9 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
 std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
                                              const ReplayOptions& options);
 
-// Pass 2 with pass 1 alongside, on the reading thread: decodes as decode_capture does (to the
-// end: options.enough is not asked) with `survey` from declared_survey, and returns the
-// capture's info as survey_capture would have given it, its warnings shown at the end. A
+// Pass 2 with pass 1 alongside, on the reading thread: decodes as decode_capture does with
+// `survey` from declared_survey, and returns the capture's info as survey_capture would have
+// given it, its warnings shown at the end. A
 // sink that needs the warnings before the records (a JSONL header) cannot use this.
 // nullopt (nothing shown) when the whole capture says to decode otherwise than its start did
 // (a response timeout declared only later): then what `sink` got is void, and the capture

@@ -22,6 +22,7 @@
 #include "item_transcript.hpp"
 #include "pairing/transaction_tracker.hpp"
 #include "pipeline/capture_feed.hpp"
+#include "record_transcript.hpp"
 
 namespace rtu {
 namespace {
@@ -33,14 +34,7 @@ class Transcript final : public RecordSink, public testing::ItemTranscript {
   void on_capture(const CaptureInfo& info) override {
     lines.push_back(fmt::format("capture {} baud={}", info.source, info.line.baud));
   }
-  void on_record(Record& r) override {
-    lines.push_back(fmt::format(
-        "record kind={} seq={} t={}..{} gap={} origin={} errors={} fit={} crc={} issues={:x} "
-        "role={} txn={} latency={} request={} {:02x}",
-        static_cast<int>(r.kind), r.seq, r.t_start, r.t_end, r.gap_before, r.origin, r.line_errors,
-        r.shape_fit, r.crc_ok, r.issues.bits(), static_cast<int>(r.role), r.txn, r.latency,
-        r.request != nullptr ? r.request->seq : -1ULL, fmt::join(r.bytes(), "")));
-  }
+  void on_record(Record& r) override { lines.push_back(testing::describe_record(r)); }
   void on_finish() override { lines.emplace_back("finish"); }
 };
 

@@ -6,18 +6,22 @@
 // records of one port leave in time order, and a run with a live capture's idle calls
 // between the reads gives exactly the records of the replay without them (live ≡ replay),
 // device issues included; every value the device stage collects has a name. The same bytes
-// read one at a time give the same records read by read as in runs of one-byte reads.
+// read one at a time give the same records read by read as in runs of one-byte reads. A first
+// look at the first frames (identification's sample) leaves the records as they are.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <vector>
 
 #include "dissect/device_stage.hpp"
 #include "dissect/map_library.hpp"
 #include "framing/framer.hpp"
+#include "pairing/transaction_tracker.hpp"
 #include "pipeline/decode_pipeline.hpp"
+#include "pipeline/first_look_gate.hpp"
 #include "report/jsonl_writer.hpp"
 #include "report/text_writer.hpp"
 
@@ -74,6 +78,24 @@ class CheckingSink : public rtu::RecordSink {
   rtu::Nanos last_start_ = rtu::kUnknownTime;
 };
 
+// A first look that wants `frames` frames and only counts them: what the gate holds while it
+// lasts must reach the sink as it would have without it.
+class FrameCountingLook final : public rtu::FirstLook, public rtu::PairingInput {
+ public:
+  explicit FrameCountingLook(std::uint64_t frames) : wanted_(frames) {}
+  rtu::PairingInput& start_look(const rtu::CaptureInfo& /*info*/) override { return *this; }
+  [[nodiscard]] bool seen_enough() const override { return seen_ >= wanted_; }
+  void conclude() override {}
+  void on_record(rtu::Record& record) override {
+    if (record.kind == rtu::RecordKind::kFrame) ++seen_;
+  }
+  void advance(rtu::Nanos /*now*/) override {}
+
+ private:
+  std::uint64_t wanted_;
+  std::uint64_t seen_ = 0;
+};
+
 struct Read {
   rtu::Nanos t_end;
   std::uint8_t port;
@@ -87,10 +109,11 @@ struct Read {
 // idle moments here keep to that, as they do on a real line.
 // With `run` > 0 (and no idle moments), one-byte reads in a row on one port are handed over
 // in runs of up to `run` reads, as a reading thread hands them over
-// (DecodePipeline::push_byte_reads).
+// (DecodePipeline::push_byte_reads). With `look_frames` > 0, a first look at that many frames
+// stands between the framing and the pairing (FirstLookGate).
 std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOptions& options,
                          bool one_port, rtu::Nanos idle_step, std::size_t payload,
-                         std::size_t run = 0) {
+                         std::size_t run = 0, std::uint64_t look_frames = 0) {
   static rtu::OutputStream devnull("/dev/null");
   rtu::JsonlWriter json(devnull);
   rtu::TextWriter text(devnull);
@@ -106,7 +129,16 @@ std::vector<Seen> decode(const std::vector<Read>& reads, const rtu::PipelineOpti
     devices.assign(slave, *maps.maps()[slave - 1], rtu::dissect::ModelOrigin::kConfigured);
   }
   rtu::dissect::DeviceStage stage(devices, sink, true);
-  rtu::DecodePipeline pipeline(options, stage);
+  rtu::TransactionTracker tracker(rtu::TrackerConfig{options.response_timeout}, stage);
+  FrameCountingLook look(look_frames);
+  rtu::FirstLookGate gate(&look, tracker);
+  std::optional<rtu::DecodePipeline> framing_and_pairing;
+  if (look_frames > 0) {
+    framing_and_pairing.emplace(options, static_cast<rtu::PairingInput&>(gate));
+  } else {
+    framing_and_pairing.emplace(options, stage);
+  }
+  rtu::DecodePipeline& pipeline = *framing_and_pairing;
   rtu::Nanos now = 0;
   const rtu::Nanos char_time = options.line.char_time();
   const rtu::Nanos delivery =
@@ -208,6 +240,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto lived = decode(reads, options, !two_ports, idle_step, payload);
   if (lived != replayed) {
     report_first_difference(replayed, lived);
+    std::abort();
+  }
+  const std::uint64_t look_frames = 1 + data[size - 1] % 16U;
+  const auto looked_first = decode(reads, options, !two_ports, 0, payload, 0, look_frames);
+  if (looked_first != replayed) {
+    report_first_difference(replayed, looked_first);
     std::abort();
   }
   // The same bytes read one at a time (as a per-byte source reads them, each a character

@@ -53,19 +53,22 @@ std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& cap
   // (--identify-frames 0) is too much to hold meanwhile: it gets a pass of its own, which
   // shares the survey.
   std::optional<IdentifyingLook> look;
+  std::optional<IdentificationSample> whole;
   if (!args.no_identify && !devices->library.maps().empty()) {
     if (args.identify_frames > 0) {
       options.first_look = &look.emplace(*devices, args.identify_frames);
     } else {
-      identify_from_whole_capture(*devices, options, [&](const ReplayOptions& o, RecordSink& sink) {
-        ReplayOptions silent = o;
-        silent.on_progress = nullptr;
-        decode_capture(capture, survey, silent, sink);
-      });
+      whole = identify_from_whole_capture(*devices, options,
+                                          [&](const ReplayOptions& o, RecordSink& sink) {
+                                            ReplayOptions silent = o;
+                                            silent.on_progress = nullptr;
+                                            decode_capture(capture, survey, silent, sink);
+                                          });
     }
   }
   Analysis analysis{std::move(devices), nullptr};
   analysis.stats = std::make_unique<TrafficStats>(&analysis.devices->table);
+  if (whole) analysis.stats->note_identification(*whole);
   RecordFanout sinks;
   sinks.add(*analysis.stats);
   std::optional<OutputStream> csv_out;
@@ -87,6 +90,7 @@ std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& cap
     progress.erase();
   }
   if (csv) csv->flush();
+  if (look) analysis.stats->note_identification(look->looked_at());
   return analysis;
 }
 

@@ -16,10 +16,16 @@ class SampleMeter final : public RecordSink {
  public:
   explicit SampleMeter(RecordSink& next) : next_(next) {}
   void on_record(Record& record) override {
-    measured += record.kind == RecordKind::kFrame ? 1 : record.size;
+    if (record.kind == RecordKind::kFrame) {
+      ++frames;
+    } else {
+      noise_bytes += record.size;
+    }
     next_.on_record(record);
   }
-  std::uint64_t measured = 0;
+  [[nodiscard]] std::uint64_t measured() const { return frames + noise_bytes; }
+  std::uint64_t frames = 0;
+  std::uint64_t noise_bytes = 0;
 
  private:
   RecordSink& next_;
@@ -38,7 +44,10 @@ struct IdentifyingLook::Sample {
 };
 
 IdentifyingLook::IdentifyingLook(DeviceSetup& devices, std::uint64_t sample_frames)
-    : devices_(devices), sample_frames_(sample_frames) {}
+    : devices_(devices), sample_frames_(sample_frames) {
+  looked_at_.frames_wanted = sample_frames;
+  looked_at_.held_bound_bytes = FirstLook::kMaxHeldBytes;
+}
 
 IdentifyingLook::~IdentifyingLook() = default;
 
@@ -48,28 +57,35 @@ PairingInput& IdentifyingLook::start_look(const CaptureInfo& info) {
 }
 
 bool IdentifyingLook::seen_enough() const {
-  return sample_ != nullptr && sample_->meter.measured >= sample_frames_;
+  return sample_ != nullptr && sample_->meter.measured() >= sample_frames_;
 }
 
-void IdentifyingLook::conclude() {
+void IdentifyingLook::conclude(LookEnd why) {
   if (sample_ == nullptr) return;
   devices_.table.assign_identified(sample_->identifier.ranking());
+  looked_at_.frames_wanted = sample_frames_;
+  looked_at_.frames = sample_->meter.frames;
+  looked_at_.noise_bytes = sample_->meter.noise_bytes;
+  looked_at_.end = why == LookEnd::kSeenEnough  ? SampleEnd::kEnough
+                   : why == LookEnd::kHeldBound ? SampleEnd::kHeldBound
+                                                : SampleEnd::kCaptureEnd;
   sample_.reset();
 }
 
-void identify_from_whole_capture(DeviceSetup& devices, const ReplayOptions& options,
-                                 const TrafficFeed& feed) {
-  if (devices.library.maps().empty()) return;
+IdentificationSample identify_from_whole_capture(DeviceSetup& devices, const ReplayOptions& options,
+                                                 const TrafficFeed& feed) {
   dissect::MapIdentifier identifier(devices.library);
+  SampleMeter meter(identifier);
   ReplayOptions quiet = options;
   quiet.show_warnings = false;
   quiet.on_chunk = nullptr;
   try {
-    feed(quiet, identifier);
+    feed(quiet, meter);
   } catch (const InputError&) {
     // Damaged input: identify from what precedes the damage; the report pass says where.
   }
   devices.table.assign_identified(identifier.ranking());
+  return IdentificationSample{0, meter.frames, meter.noise_bytes, SampleEnd::kCaptureEnd};
 }
 
 }  // namespace rtu::app

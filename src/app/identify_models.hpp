@@ -10,6 +10,7 @@
 #include "framing/record.hpp"
 #include "pipeline/first_look.hpp"
 #include "pipeline/replay.hpp"
+#include "report/identification_sample.hpp"
 
 namespace rtu::app {
 
@@ -39,20 +40,24 @@ class IdentifyingLook final : public FirstLook {
 
   PairingInput& start_look(const CaptureInfo& info) override;
   [[nodiscard]] bool seen_enough() const override;
-  void conclude() override;
+  void conclude(LookEnd why) override;
+
+  // What the look looked at, once it concluded.
+  [[nodiscard]] const IdentificationSample& looked_at() const { return looked_at_; }
 
  private:
   struct Sample;
   DeviceSetup& devices_;
   std::uint64_t sample_frames_;
   std::unique_ptr<Sample> sample_;
+  IdentificationSample looked_at_;
 };
 
 // Runs `feed` once to the end with a MapIdentifier (reader warnings off) that weighs every
 // request, and assigns what it is sure of: identification from the whole capture, which is
 // too long to hold for an IdentifyingLook. An InputError in this pass is left for the next
-// pass to raise, with everything before the damage identified.
-void identify_from_whole_capture(DeviceSetup& devices, const ReplayOptions& options,
-                                 const TrafficFeed& feed);
+// pass to raise, with everything before the damage identified. Returns what it looked at.
+IdentificationSample identify_from_whole_capture(DeviceSetup& devices, const ReplayOptions& options,
+                                                 const TrafficFeed& feed);
 
 }  // namespace rtu::app

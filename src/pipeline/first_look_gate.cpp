@@ -19,7 +19,11 @@ void FirstLookGate::on_record(Record& record) {
   }
   held_.hold(record);  // before the look may change it (a tracker fills in its fields)
   looking_->on_record(record);
-  if (look_->seen_enough() || held_.bytes_held() >= FirstLook::kMaxHeldBytes) end_look();
+  if (look_->seen_enough()) {
+    end_look(LookEnd::kSeenEnough);
+  } else if (held_.bytes_held() >= FirstLook::kMaxHeldBytes) {
+    end_look(LookEnd::kHeldBound);
+  }
 }
 
 void FirstLookGate::advance(Nanos now) {
@@ -32,14 +36,14 @@ void FirstLookGate::advance(Nanos now) {
 }
 
 void FirstLookGate::on_finish() {
-  if (looking_ != nullptr) end_look();
+  if (looking_ != nullptr) end_look(LookEnd::kInputEnded);
   pairing_.on_finish();
 }
 
-void FirstLookGate::end_look() {
+void FirstLookGate::end_look(LookEnd why) {
   looking_->on_finish();
   looking_ = nullptr;
-  look_->conclude();
+  look_->conclude(why);
   pairing_.on_capture(info_);
   held_.tell(pairing_);
 }

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "core/function_codes.hpp"
@@ -398,7 +399,13 @@ void slave_table(Out& o, const TrafficStats& stats) {
           escaped(issues));
     }
   }
-  put(o, "</tbody></table></div></section>");
+  put(o, "</tbody></table></div>");
+  if (const auto& sample = stats.identification()) {
+    std::string note = describe(*sample);
+    note[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(note[0])));
+    put(o, "<div class=\"note\">{}.</div>", escaped(note));
+  }
+  put(o, "</section>");
 }
 
 void latency_histograms(Out& o, const TrafficStats& stats) {

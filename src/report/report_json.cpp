@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <optional>
+
 #include "core/function_codes.hpp"
 #include "core/json_writer.hpp"
 #include "core/time_format.hpp"
@@ -254,6 +256,21 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   j.end_object();
 }
 
+// null where identification did not run (--no-identify, or no device maps).
+void write_identification(JsonWriter& j, const std::optional<IdentificationSample>& sample) {
+  j.key("identification");
+  if (!sample) {
+    j.null();
+    return;
+  }
+  j.begin_object();
+  j.field("frames_wanted", sample->frames_wanted);
+  j.field("frames", sample->frames);
+  j.field("noise_bytes", sample->noise_bytes);
+  j.field("ended", sample_end_name(sample->end));
+  j.end_object();
+}
+
 void write_timing(JsonWriter& j, const TrafficStats& stats) {
   std::uint64_t after_requests = 0;
   for (unsigned a = 1; a < 256; ++a) {
@@ -425,6 +442,7 @@ void write_report_json(OutputStream& out, const TrafficStats& stats,
     }
   }
   j.end_object();
+  write_identification(j, stats.identification());
   write_timing(j, stats);
   write_findings(j, findings);
   write_timeline(j, stats);

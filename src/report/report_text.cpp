@@ -111,6 +111,7 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   if (any_identified) {
     line(o, "  * device identified from the traffic; name it with --device ADDR=MODEL or --bus");
   }
+  if (const auto& sample = stats.identification()) line(o, "  {}", describe(*sample));
   line(o, "");
 
   line(o, "POLL PERIODS (per request kind)");

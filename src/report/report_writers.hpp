@@ -30,6 +30,10 @@
 //              turnaround_glitches, turnaround_glitch_sent (framer-flagged glitches after
 //              its responses), turnaround_glitch_sent_line_errors}, timeout_fit [{timeout_ms,
 //              lost, lost_pct}]}}
+//   identification  {frames_wanted (--identify-frames; 0 for the whole capture), frames,
+//              noise_bytes (what it looked at), ended ("enough", "capture_end", or "held_bound":
+//              the records held for the decoding meanwhile reached their 24 MB bound, so the
+//              models rest on fewer frames than were asked for)} | null (it did not run)
 //   timing    {t1_5_observable, t3_5_observable, t1_5_pauses, t3_5_violations,
 //              slave_turnaround_ms {min, p50, p95, p99, max, mean} | null,
 //              master_turnaround_ms {...} | null (across turnaround glitches),

@@ -23,6 +23,7 @@
 #include "dissect/point_value.hpp"
 #include "framing/capture_info.hpp"
 #include "framing/record.hpp"
+#include "report/identification_sample.hpp"
 #include "report/log_histogram.hpp"
 #include "report/request_echoes.hpp"
 #include "report/time_buckets.hpp"
@@ -215,8 +216,13 @@ class TrafficStats : public RecordSink {
   // being decoded (decode_and_survey): the same settings as on_capture gave, now with the
   // warnings and the per-byte timing only the whole capture tells.
   void complete_capture(const CaptureInfo& info) { info_ = info; }
+  // What identification looked at, where it ran (the models it named are in the devices).
+  void note_identification(const IdentificationSample& sample) { identification_ = sample; }
 
   [[nodiscard]] const CaptureInfo& capture() const { return info_; }
+  [[nodiscard]] const std::optional<IdentificationSample>& identification() const {
+    return identification_;
+  }
   [[nodiscard]] const Totals& totals() const { return totals_; }
   // Slaves seen, by address; null for addresses never seen.
   [[nodiscard]] const SlaveStats* slave(std::uint8_t address) const {
@@ -290,6 +296,7 @@ class TrafficStats : public RecordSink {
 
   const dissect::DeviceTable* devices_;
   CaptureInfo info_;
+  std::optional<IdentificationSample> identification_;
   Totals totals_;
   std::array<std::unique_ptr<SlaveStats>, 256> slaves_{};
   std::map<RequestKind, RequestKindStats> kinds_;

@@ -123,6 +123,29 @@ def report(rtuscope, capture, args, work, tag):
     return js, csv_values(csv_path)
 
 
+def check_sample(js, wanted, ended, frames=None, noise_bytes=None):
+    """The report's `identification`: asked for `wanted` frames (0: all), ended for the
+    reason `ended`; it looked at `frames` frames and `noise_bytes` bytes of noise where
+    given, and on `enough` at least as much as it was asked for, but no frame more."""
+    sample = js["identification"]
+    if sample is None:
+        fail("the report does not say what identification looked at")
+    if sample["frames_wanted"] != wanted or sample["ended"] != ended:
+        fail(f"identification {sample}: expected {wanted} frames wanted, ended {ended!r}")
+    if frames is not None and sample["frames"] != frames:
+        fail(f"identification {sample} looked at other than {frames} frames")
+    if noise_bytes is not None and sample["noise_bytes"] != noise_bytes:
+        fail(f"identification {sample} looked at other than {noise_bytes} bytes of noise")
+    if ended == "enough" and not (sample["frames"] <= wanted
+                                  <= sample["frames"] + sample["noise_bytes"]):
+        fail(f"identification {sample} ended on enough with other than {wanted} frames")
+
+
+def without_sample(js):
+    """The report less what identification looked at (its sample's size differs)."""
+    return {k: v for k, v in js.items() if k != "identification"}
+
+
 def main():
     rtuscope, capture = sys.argv[1:]
     args_path = re.sub(r"\.[^.]+$", ".args", capture)
@@ -178,11 +201,16 @@ def check(rtuscope, capture, args, models, work):
                  f"({slave['device_model_source']}), expected {model!r} (identified)")
     if not same_values(rows_id, rows):
         fail("identified models give other values than configured ones")
+    # The report says what the models rest on: here the whole capture, shorter than a sample.
+    totals = js_id["totals"]
+    check_sample(js_id, 200000, "capture_end", totals["frames"], totals["noise_bytes"])
     # --no-identify: no model, raw registers.
     js_raw, rows_raw = report(rtuscope, capture, ["--no-identify"], work, "raw")
     for addr in models:
         if js_raw["slaves"][addr]["device"] is not None:
             fail(f"slave {addr} has a model despite --no-identify")
+    if js_raw["identification"] is not None:
+        fail(f"--no-identify reports an identification: {js_raw['identification']}")
     if not rows_raw or not all(RAW_POINT.fullmatch(r[2]) for r in rows_raw):
         fail("--no-identify does not leave raw registers")
     # Identification looks at a sample of first frames: 8 frames hold fewer requests than a
@@ -191,8 +219,10 @@ def check(rtuscope, capture, args, models, work):
     for addr in models:
         if js_few["slaves"][addr]["device"] is not None:
             fail(f"slave {addr} identified from 8 frames")
+    check_sample(js_few, 8, "enough")
     js_all, rows_all = report(rtuscope, capture, ["--identify-frames", "0"], work, "all")
-    if js_all != js_id or rows_all != rows_id:
+    check_sample(js_all, 0, "capture_end", totals["frames"], totals["noise_bytes"])
+    if without_sample(js_all) != without_sample(js_id) or rows_all != rows_id:
         fail("--identify-frames 0 (the whole capture) differs from the default sample")
     # Noise counts towards the sample a frame per byte: framing it is the dearest work there
     # is, and a sick bus must not be framed twice before its first frames. Behind 300 noise
@@ -204,6 +234,7 @@ def check(rtuscope, capture, args, models, work):
             fail(f"slave {addr} identified from a sample of 200 that 300 noise bytes fill")
     if js_noisy["totals"]["noise_bytes"] < 300:
         fail(f"the noise before the traffic was not read as noise: {js_noisy['totals']}")
+    check_sample(js_noisy, 200, "enough", 0)
     js_noisy_all, _ = report(rtuscope, noisy, ["--identify-frames", "0"], work, "noisy-all")
     for addr, model in models.items():
         if js_noisy_all["slaves"][addr]["device"] != model:
@@ -213,6 +244,9 @@ def check(rtuscope, capture, args, models, work):
     for addr, model in models.items():
         if not re.search(rf"^\s+{addr} {re.escape(model)}\*\s", text, re.M):
             fail(f"text report does not show slave {addr} as {model}* (identified)")
+    said = f"models identified from all {totals['frames']} frames"
+    if said not in text:
+        fail(f"text report does not say what identification looked at ({said!r})")
     print(f"ok: {capture}: models {models}, {len(rows)} values as decode shows them, "
           f"scaled: {scaled}, units {units}; identified without options")
 

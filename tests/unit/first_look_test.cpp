@@ -47,8 +47,9 @@ class CountingLook final : public FirstLook {
     return seen;
   }
   [[nodiscard]] bool seen_enough() const override { return seen.frames >= wanted_; }
-  void conclude() override {
+  void conclude(LookEnd why) override {
     ++conclusions;
+    end = why;
     sink_lines_then = sink_.lines.size();
     seen_finished = !seen.lines.empty() && seen.lines.back() == "finish";
   }
@@ -56,6 +57,7 @@ class CountingLook final : public FirstLook {
   Lines seen;
   int starts = 0;
   int conclusions = 0;
+  LookEnd end = LookEnd::kInputEnded;
   std::size_t sink_lines_then = std::numeric_limits<std::size_t>::max();
   bool seen_finished = false;
 
@@ -153,6 +155,8 @@ TEST(FirstLookGate, SinkGetsWhatItGetsWithoutALookAfterTheLookConcluded) {
         // The look saw as many frames as it wanted, or all there were (the tracker it feeds
         // here is none, so it sees each frame as the framing made it).
         EXPECT_EQ(look.seen.frames, std::min(wanted, plain.frames));
+        // It ended on enough frames where there were that many (the last one included).
+        EXPECT_EQ(look.end, wanted <= plain.frames ? LookEnd::kSeenEnough : LookEnd::kInputEnded);
       }
     }
   }
@@ -172,6 +176,7 @@ TEST(FirstLookGate, EndsTheLookWhereTheHeldRecordsReachTheirBound) {
   }
   gate.on_finish();
   EXPECT_EQ(look.conclusions, 1);
+  EXPECT_EQ(look.end, LookEnd::kHeldBound);
   EXPECT_EQ(look.sink_lines_then, 0U);
   const std::uint64_t seen = look.seen.lines.size() - 2;  // less its capture and finish lines
   EXPECT_LT(seen, records);

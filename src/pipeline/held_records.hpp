@@ -2,7 +2,11 @@
 // What the framing tells the pairing (records and decided times), held compactly in memory
 // to be told later, exactly as it came: a sample's records wait here while the sample is
 // looked at first (pipeline/first_look_gate.hpp). A record keeps the fields the framing sets
-// and only the bytes in use, so a short frame costs about 90 bytes, not a whole Record's 368.
+// and only the bytes in use, not a whole Record's 368 bytes. Its times, sequence number and
+// origin are held as differences from the record before it, a few bytes each on a bus's
+// regular traffic: a polling frame and the decided time after it take about 28 bytes besides
+// the frame's own, where a fixed header took 66 (peak memory of a per-byte report of 5 M
+// frames: 33 -> 26 MB).
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -29,19 +33,26 @@ class HeldRecords {
 
  private:
   static constexpr std::size_t kBlockBytes = 256 * 1024;
-  struct Header;  // a record's fields, as held
-  enum class Tag : std::uint8_t { kRecord, kAdvance };
 
   // Writes a decided time still pending (one comes before the next record, as it came).
   void flush_advance();
-  // Where `size` bytes go next: the current block, or a new one when it cannot take them
-  // whole (an entry never spans two blocks).
+  // Where at most `size` bytes go next: the current block, or a new one when it cannot take
+  // them whole (an entry never spans two blocks). commit() says how many were written.
   std::uint8_t* room_for(std::size_t size);
+  void commit(const std::uint8_t* end) { used_.back() = static_cast<std::size_t>(end - block()); }
+  [[nodiscard]] std::uint8_t* block() const { return blocks_.back().get(); }
 
   std::vector<std::unique_ptr<std::uint8_t[]>> blocks_;
   std::vector<std::size_t> used_;  // bytes written in each block
   Nanos pending_advance_ = kUnknownTime;
   bool advance_pending_ = false;
+  // What the next entry is held as a difference from: the last record's.
+  struct Previous {
+    std::uint64_t seq = 0;
+    std::uint64_t origin = 0;
+    Nanos t_end = 0;
+  };
+  Previous last_held_;
 };
 
 }  // namespace rtu

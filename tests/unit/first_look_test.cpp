@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,54 @@ TEST(HeldRecords, TellsEveryRecordAsHeldWithTheLastOfEachRunOfDecidedTimes) {
   Lines again;
   held.tell(again);
   EXPECT_TRUE(again.lines.empty());
+}
+
+// Fields are held as differences from the record before: any value must come back, however
+// far it lies from the last one (times unknown, negative or at the ends of their range,
+// sequence numbers and origins that jump back), and decided times anywhere.
+TEST(HeldRecords, TellsFieldsFarFromTheRecordBeforeAsHeld) {
+  std::mt19937_64 random(11);
+  const auto any_time = [&random]() -> Nanos {
+    switch (random() % 6) {
+      case 0: return kUnknownTime;
+      case 1: return std::numeric_limits<Nanos>::max() - static_cast<Nanos>(random() % 3);
+      case 2: return std::numeric_limits<Nanos>::min() + static_cast<Nanos>(random() % 3);
+      case 3: return -static_cast<Nanos>(random() % 1000000);
+      default: return static_cast<Nanos>(random() >> 1U);
+    }
+  };
+  HeldRecords held;
+  Lines expected;
+  for (int i = 0; i < 5000; ++i) {
+    Record r;
+    r.seq = i % 4 == 0 ? random() : static_cast<std::uint64_t>(i);
+    r.origin = random() >> (random() % 64);
+    r.t_start = any_time();
+    r.t_end = random() % 2 == 0 ? any_time() : r.t_start + 1;
+    r.gap_before = any_time();
+    r.kind = random() % 2 == 0 ? RecordKind::kNoise : RecordKind::kFrame;
+    r.size = static_cast<std::uint16_t>(random() % (kMaxAdu + 1));
+    for (std::uint16_t k = 0; k < r.size; ++k)
+      r.storage.at(k) = static_cast<std::uint8_t>(random());
+    r.line_errors = static_cast<std::uint8_t>(random() % 16);
+    r.shape_fit = static_cast<std::uint8_t>(random() % 4);
+    r.crc_ok = random() % 2 == 0;
+    for (unsigned k = 0; k < static_cast<unsigned>(IssueId::kCount); ++k) {
+      if (random() % 8 == 0) r.issues.add(static_cast<IssueId>(k));
+    }
+    held.hold(r);
+    expected.on_record(r);
+    if (random() % 3 == 0) {
+      const Nanos now = any_time();
+      held.hold_advance(now);
+      expected.advance(now);
+    }
+  }
+  Lines told;
+  held.tell(told);
+  ASSERT_EQ(told.lines.size(), expected.lines.size());
+  for (std::size_t i = 0; i < told.lines.size(); ++i)
+    ASSERT_EQ(told.lines[i], expected.lines[i]) << i;
 }
 
 // The decoding of `path` into a transcript of the sink's calls, with `look` (may be null).

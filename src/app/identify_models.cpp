@@ -63,7 +63,6 @@ bool IdentifyingLook::seen_enough() const {
 void IdentifyingLook::conclude(LookEnd why) {
   if (sample_ == nullptr) return;
   devices_.table.assign_identified(sample_->identifier.ranking());
-  looked_at_.frames_wanted = sample_frames_;
   looked_at_.frames = sample_->meter.frames;
   looked_at_.noise_bytes = sample_->meter.noise_bytes;
   looked_at_.end = why == LookEnd::kSeenEnough  ? SampleEnd::kEnough

@@ -60,14 +60,12 @@ bool IdentifyingLook::seen_enough() const {
   return sample_ != nullptr && sample_->meter.measured() >= sample_frames_;
 }
 
-void IdentifyingLook::conclude(LookEnd why) {
+void IdentifyingLook::conclude(SampleEnd why) {
   if (sample_ == nullptr) return;
   devices_.table.assign_identified(sample_->identifier.ranking());
   looked_at_.frames = sample_->meter.frames;
   looked_at_.noise_bytes = sample_->meter.noise_bytes;
-  looked_at_.end = why == LookEnd::kSeenEnough  ? SampleEnd::kEnough
-                   : why == LookEnd::kHeldBound ? SampleEnd::kHeldBound
-                                                : SampleEnd::kCaptureEnd;
+  looked_at_.end = why;
   sample_.reset();
 }
 

@@ -40,7 +40,7 @@ class IdentifyingLook final : public FirstLook {
 
   PairingInput& start_look(const CaptureInfo& info) override;
   [[nodiscard]] bool seen_enough() const override;
-  void conclude(LookEnd why) override;
+  void conclude(SampleEnd why) override;
 
   // What the look looked at, once it concluded.
   [[nodiscard]] const IdentificationSample& looked_at() const { return looked_at_; }

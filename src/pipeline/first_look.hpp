@@ -9,15 +9,9 @@
 
 #include "framing/capture_info.hpp"
 #include "pairing/pairing_input.hpp"
+#include "report/identification_sample.hpp"
 
 namespace rtu {
-
-// Why a look ended.
-enum class LookEnd : std::uint8_t {
-  kSeenEnough,  // seen_enough() said so
-  kInputEnded,  // the capture ended, or broke, first
-  kHeldBound,   // the records held for the sink reached FirstLook::kMaxHeldBytes
-};
 
 class FirstLook {
  public:
@@ -27,9 +21,9 @@ class FirstLook {
   virtual PairingInput& start_look(const CaptureInfo& info) = 0;
   // Asked after each record: true once the look has seen enough.
   [[nodiscard]] virtual bool seen_enough() const = 0;
-  // The look is over, for the reason `why`, its input finished: called once, before the
-  // sink's first record.
-  virtual void conclude(LookEnd why) = 0;
+  // The look is over, for the reason `why` (kHeldBound: the records held for the sink reached
+  // kMaxHeldBytes), its input finished: called once, before the sink's first record.
+  virtual void conclude(SampleEnd why) = 0;
 
   // What the decoding holds back for the sink while the look lasts, at most: the look ends
   // there even if it has not seen enough, so memory stays bounded whatever the traffic.

@@ -20,9 +20,9 @@ void FirstLookGate::on_record(Record& record) {
   held_.hold(record);  // before the look may change it (a tracker fills in its fields)
   looking_->on_record(record);
   if (look_->seen_enough()) {
-    end_look(LookEnd::kSeenEnough);
+    end_look(SampleEnd::kEnough);
   } else if (held_.bytes_held() >= FirstLook::kMaxHeldBytes) {
-    end_look(LookEnd::kHeldBound);
+    end_look(SampleEnd::kHeldBound);
   }
 }
 
@@ -36,11 +36,11 @@ void FirstLookGate::advance(Nanos now) {
 }
 
 void FirstLookGate::on_finish() {
-  if (looking_ != nullptr) end_look(LookEnd::kInputEnded);
+  if (looking_ != nullptr) end_look(SampleEnd::kCaptureEnd);
   pairing_.on_finish();
 }
 
-void FirstLookGate::end_look(LookEnd why) {
+void FirstLookGate::end_look(SampleEnd why) {
   looking_->on_finish();
   looking_ = nullptr;
   look_->conclude(why);

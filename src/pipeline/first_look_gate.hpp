@@ -21,7 +21,7 @@ class FirstLookGate final : public PairingInput {
 
  private:
   // The look is over: it concludes, and the pairing gets what was held.
-  void end_look(LookEnd why);
+  void end_look(SampleEnd why);
 
   FirstLook* look_;
   PairingInput& pairing_;

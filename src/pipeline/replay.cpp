@@ -225,12 +225,14 @@ void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOpt
                  RecordSink& sink, bool only_pass) {
   const CaptureInfo& info = survey.info;
   // A first look needs the pairing apart from the framing, to stand between them.
-  TransactionTracker tracker(TrackerConfig{info.response_timeout}, sink);
-  FirstLookGate gate(options.first_look, tracker);
+  std::optional<TransactionTracker> tracker;
+  std::optional<FirstLookGate> gate;
   std::optional<DecodePipeline> framing_and_pairing;
   if (options.first_look != nullptr) {
+    tracker.emplace(TrackerConfig{info.response_timeout}, sink);
+    gate.emplace(options.first_look, *tracker);
     framing_and_pairing.emplace(pipeline_options(survey, options),
-                                static_cast<PairingInput&>(gate));
+                                static_cast<PairingInput&>(*gate));
   } else {
     framing_and_pairing.emplace(pipeline_options(survey, options), sink);
   }

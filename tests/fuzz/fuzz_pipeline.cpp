@@ -85,7 +85,7 @@ class FrameCountingLook final : public rtu::FirstLook, public rtu::PairingInput 
   explicit FrameCountingLook(std::uint64_t frames) : wanted_(frames) {}
   rtu::PairingInput& start_look(const rtu::CaptureInfo& /*info*/) override { return *this; }
   [[nodiscard]] bool seen_enough() const override { return seen_ >= wanted_; }
-  void conclude(rtu::LookEnd /*why*/) override {}
+  void conclude(rtu::SampleEnd /*why*/) override {}
   void on_record(rtu::Record& record) override {
     if (record.kind == rtu::RecordKind::kFrame) ++seen_;
   }

@@ -48,7 +48,7 @@ class CountingLook final : public FirstLook {
     return seen;
   }
   [[nodiscard]] bool seen_enough() const override { return seen.frames >= wanted_; }
-  void conclude(LookEnd why) override {
+  void conclude(SampleEnd why) override {
     ++conclusions;
     end = why;
     sink_lines_then = sink_.lines.size();
@@ -58,7 +58,7 @@ class CountingLook final : public FirstLook {
   Lines seen;
   int starts = 0;
   int conclusions = 0;
-  LookEnd end = LookEnd::kInputEnded;
+  SampleEnd end = SampleEnd::kCaptureEnd;
   std::size_t sink_lines_then = std::numeric_limits<std::size_t>::max();
   bool seen_finished = false;
 
@@ -207,7 +207,7 @@ TEST(FirstLookGate, SinkGetsWhatItGetsWithoutALookAfterTheLookConcluded) {
         // here is none, so it sees each frame as the framing made it).
         EXPECT_EQ(look.seen.frames, std::min(wanted, plain.frames));
         // It ended on enough frames where there were that many (the last one included).
-        EXPECT_EQ(look.end, wanted <= plain.frames ? LookEnd::kSeenEnough : LookEnd::kInputEnded);
+        EXPECT_EQ(look.end, wanted <= plain.frames ? SampleEnd::kEnough : SampleEnd::kCaptureEnd);
       }
     }
   }
@@ -227,7 +227,7 @@ TEST(FirstLookGate, EndsTheLookWhereTheHeldRecordsReachTheirBound) {
   }
   gate.on_finish();
   EXPECT_EQ(look.conclusions, 1);
-  EXPECT_EQ(look.end, LookEnd::kHeldBound);
+  EXPECT_EQ(look.end, SampleEnd::kHeldBound);
   EXPECT_EQ(look.sink_lines_then, 0U);
   const std::uint64_t seen = look.seen.lines.size() - 2;  // less its capture and finish lines
   EXPECT_LT(seen, records);

@@ -151,59 +151,78 @@ def main():
         if args.usb_packet:
             vbus_cmd += ["--usb-packet", str(args.usb_packet)]
     pymodbus = args.scenario == "pymodbus_slave" or args.slave_kind == "pymodbus"
-    vbus = subprocess.Popen(vbus_cmd, stdout=subprocess.PIPE, text=True)
-    procs = [vbus]
-    try:
-        master_ep, slave_ep, sniff_ep = read_lines(vbus, 3, "rtuvbus")
-        if pymodbus:
-            py = python_with_pymodbus()
-            if py is None:
-                fail("python3-pymodbus is not installed (tools/debian-packages.txt)")
-            slave_cmd = [py, os.path.join(os.path.dirname(__file__), "pymodbus_slave.py")]
-        else:
-            slave_cmd = [args.slave]
-        # pymodbus cannot open a pty with parity (see pymodbus_slave.py); a pty has none.
-        slave_parity = "N" if pymodbus else "E"
-        slave = subprocess.Popen(slave_cmd + [slave_ep, str(SLAVE), str(baud), slave_parity, "1"],
-                                 stdout=subprocess.PIPE, text=True)
-        procs.append(slave)
-        read_lines(slave, 1, "slave")
-        live = subprocess.Popen([args.rtuscope, "live", sniff_ep, "--baud", str(baud),
-                                 "--parity", "E", "--format", "jsonl", "-o", live_out,
-                                 "-w", pcapng, "--timeout-ms", "300", "--report", report_path],
-                                stderr=subprocess.PIPE, text=True)
-        procs.append(live)
-        notes = wait_for_stderr(live, "listening on", "rtuscope live")
-        if not any("parity" in n for n in notes):
-            fail("rtuscope live did not say that the pty has no parity")
-        time.sleep(1.0)  # pymodbus opens its port asynchronously after printing "ready"
-        for cmd in master_commands(master_ep, baud):
-            r = subprocess.run(cmd, capture_output=True, text=True, timeout=30)
-            absent = f"-a {ABSENT}" in " ".join(cmd)
-            if r.returncode != 0 and not absent:
-                fail(f"{' '.join(cmd)} failed: {r.stdout}{r.stderr}")
-        time.sleep(0.5)  # the last response's t3.5 and the absent slave's timeout
-        live.send_signal(signal.SIGTERM)
-        _, err = live.communicate(timeout=20)
-        if live.returncode != 0:
-            fail(f"rtuscope live exited {live.returncode}: {err}")
-        print(err, end="")
-    finally:
-        stop_all(procs)
+
+    def run_session():
+        """One capture on a fresh bus; rtuscope live's stderr."""
+        vbus = subprocess.Popen(vbus_cmd, stdout=subprocess.PIPE, text=True)
+        procs = [vbus]
+        try:
+            master_ep, slave_ep, sniff_ep = read_lines(vbus, 3, "rtuvbus")
+            if pymodbus:
+                py = python_with_pymodbus()
+                if py is None:
+                    fail("python3-pymodbus is not installed (tools/debian-packages.txt)")
+                slave_cmd = [py, os.path.join(os.path.dirname(__file__), "pymodbus_slave.py")]
+            else:
+                slave_cmd = [args.slave]
+            # pymodbus cannot open a pty with parity (see pymodbus_slave.py); a pty has none.
+            slave_parity = "N" if pymodbus else "E"
+            slave = subprocess.Popen(
+                slave_cmd + [slave_ep, str(SLAVE), str(baud), slave_parity, "1"],
+                stdout=subprocess.PIPE, text=True)
+            procs.append(slave)
+            read_lines(slave, 1, "slave")
+            live = subprocess.Popen([args.rtuscope, "live", sniff_ep, "--baud", str(baud),
+                                     "--parity", "E", "--format", "jsonl", "-o", live_out,
+                                     "-w", pcapng, "--timeout-ms", "300", "--report", report_path],
+                                    stderr=subprocess.PIPE, text=True)
+            procs.append(live)
+            notes = wait_for_stderr(live, "listening on", "rtuscope live")
+            if not any("parity" in n for n in notes):
+                fail("rtuscope live did not say that the pty has no parity")
+            time.sleep(1.0)  # pymodbus opens its port asynchronously after printing "ready"
+            for cmd in master_commands(master_ep, baud):
+                r = subprocess.run(cmd, capture_output=True, text=True, timeout=30)
+                absent = f"-a {ABSENT}" in " ".join(cmd)
+                if r.returncode != 0 and not absent:
+                    fail(f"{' '.join(cmd)} failed: {r.stdout}{r.stderr}")
+            time.sleep(0.5)  # the last response's t3.5 and the absent slave's timeout
+            live.send_signal(signal.SIGTERM)
+            _, err = live.communicate(timeout=20)
+            if live.returncode != 0:
+                fail(f"rtuscope live exited {live.returncode}: {err}")
+            print(err, end="")
+        finally:
+            stop_all(procs)
+        return err
 
     # Without an adapter model, --wire-rate hands rtuscope a byte per read at slow rates: the
     # recording is then replayed as a per-byte capture (runs of one-byte reads, framed ahead),
     # and step 5 holds that path to the live records too. Make sure it is the one taken.
-    if args.wire_rate and not usb:
+    # A loaded machine (two cores, sanitizers) now and then reads two bytes at once; the runs
+    # between such reads still take the per-byte path. A batching port would give several
+    # bytes per read on average, far below this bound. Where a moment of the machine batched
+    # more than that, the capture is taken again (at most three times): the reads are what
+    # this case is about, not what it checks.
+    per_byte_case = args.wire_rate and not usb
+    attempts = 3 if per_byte_case else 1
+    for attempt in range(1, attempts + 1):
+        for stale in (log, pcapng, live_out, report_path):
+            if os.path.exists(stale):
+                os.remove(stale)
+        err = run_session()
+        if not per_byte_case:
+            break
         sizes = re.search(r"(\d+) bytes in (\d+) reads", err)
         if sizes is None:
             fail(f"rtuscope live printed no summary of its reads: {err}")
         nbytes, reads = int(sizes.group(1)), int(sizes.group(2))
-        # A loaded machine (two cores, sanitizers) now and then reads two bytes at once; the
-        # runs between such reads still take the per-byte path. A batching port would give
-        # several bytes per read on average, far below this bound.
-        if reads * 10 < nbytes * 9:
-            fail(f"{nbytes} bytes came in {reads} reads, not (nearly) one byte per read")
+        if reads * 10 >= nbytes * 9:
+            break
+        message = f"{nbytes} bytes came in {reads} reads, not (nearly) one byte per read"
+        if attempt == attempts:
+            fail(f"{message}, in {attempts} captures")
+        print(f"capture {attempt}: {message}; taken again")
 
     bursts = bus_bursts(log)
     records = load_jsonl(live_out)

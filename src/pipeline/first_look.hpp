@@ -5,7 +5,6 @@
 // sample once; a pass of its own over the sample framed it twice, which on traffic dear to
 // frame (a sick bus, random frames) cost as much as the report itself.
 #include <cstddef>
-#include <cstdint>
 
 #include "framing/capture_info.hpp"
 #include "pairing/pairing_input.hpp"

@@ -7,6 +7,8 @@ ep0, a slave (our libmodbus server, or Debian's pymodbus) answers on ep1, and
   * every byte the peers wrote (the bus log) was captured, in order;
   * every burst a peer wrote is one CRC-valid frame, requests paired with their responses,
     the request to an absent slave timed out, and every frame decoded (function named);
+  * every t1.5 and t3.5 flag is true on the wire (the bus log's times): timing is
+    evidence only where the reads could show it;
   * `rtuscope decode` of the pcapng written meanwhile gives the same records.
 """
 import argparse
@@ -53,8 +55,9 @@ def wait_for_stderr(proc, needle, what, deadline=20.0):
 
 
 def bus_bursts(log_path):
-    """Bursts from the bus log: reads of one writer that follow each other on the wire
-    without a pause are one burst (a writer's frame may reach the bus in several reads)."""
+    """Bursts from the bus log, as (writer, hex, wire start, wire end) in seconds: reads of
+    one writer that follow each other on the wire without a pause are one burst (a writer's
+    frame may reach the bus in several reads)."""
     bursts = []
     who = start = None
     with open(log_path) as f:
@@ -69,10 +72,37 @@ def bus_bursts(log_path):
             t, hexbytes = line.split()
             if bursts and bursts[-1][0] == who and start - bursts[-1][2] < 2e-6:
                 bursts[-1][1] += hexbytes
-                bursts[-1][2] = float(t)
+                bursts[-1][3] = float(t)
             else:
-                bursts.append([who, hexbytes, float(t)])
-    return [(b[0], b[1]) for b in bursts]
+                bursts.append([who, hexbytes, start, float(t)])
+    return [tuple(b) for b in bursts]
+
+
+def t3_5_seconds(baud):
+    """The spec's t3.5: 3.5 characters of 11 bits, fixed at 1.75 ms above 19200 baud."""
+    return 1.75e-3 if baud > 19200 else 3.5 * 11 / baud
+
+
+def check_timing_flags(bursts, frames, baud):
+    """Every timing flag is true on the wire: a t3.5 flag only where the bus was silent
+    for less than t3.5 before the frame, and no t1.5 flag (a burst has no pause inside).
+    Returns how many t3.5 flags there were and how many frames broke t3.5 on the wire."""
+    t3_5 = t3_5_seconds(baud)
+    flagged = violations = 0
+    for i, ((_, _, start, _), frame) in enumerate(zip(bursts, frames)):
+        silence = start - bursts[i - 1][3] if i > 0 else None
+        short = silence is not None and silence < t3_5
+        violations += short
+        issues = frame.get("issues") or []
+        if "t1.5" in issues:
+            fail(f"t1.5 flag on a frame the bus sent without a pause: {frame}")
+        if "t3.5" in issues:
+            flagged += 1
+            if not short:
+                shown = "none before it" if silence is None else f"{silence * 1e3:.3f} ms"
+                fail(f"t3.5 flag where the bus was silent for {shown} "
+                     f"(t3.5 is {t3_5 * 1e3:.3f} ms): {frame}")
+    return flagged, violations
 
 
 def master_commands(port, baud):
@@ -232,7 +262,7 @@ def main():
           f"{len(body) - len(frames)} noise records")
 
     # 1. Every byte, in order.
-    bus_bytes = "".join(h for _, h in bursts)
+    bus_bytes = "".join(b[1] for b in bursts)
     live_bytes = "".join(r["hex"] for r in body)
     if bus_bytes != live_bytes:
         fail(f"captured bytes differ from the bus log:\n bus  {bus_bytes}\n live {live_bytes}")
@@ -240,7 +270,7 @@ def main():
     if len(frames) != len(bursts) or len(body) != len(frames):
         fail(f"{len(bursts)} bursts on the bus but {len(frames)} frames, "
              f"{len(body) - len(frames)} noise records")
-    for (who, hexbytes), frame in zip(bursts, frames):
+    for (who, hexbytes, _, _), frame in zip(bursts, frames):
         want_role = "request" if who == 0 else "response"
         if frame["hex"] != hexbytes or not frame["crc_ok"] or frame["role"] != want_role:
             fail(f"burst from ep{who} {hexbytes} became {frame}")
@@ -280,7 +310,11 @@ def main():
     if slave["latency_ms"] is None or not measured:
         fail(f"report has no latency for slave {SLAVE}: {slave['latency_ms']}")
 
-    # 5. The recording replays to the same records.
+    # 5. Timing flags are evidence, never invented.
+    flagged, violations = check_timing_flags(bursts, frames, baud)
+    print(f"t3.5: {flagged} flagged, all true; {violations} frames broke it on the wire")
+
+    # 6. The recording replays to the same records.
     replay = subprocess.run([args.rtuscope, "decode", pcapng, "--format", "jsonl"],
                             capture_output=True, text=True, timeout=60)
     if replay.returncode != 0 and "pcap import is not available" in replay.stderr:

@@ -44,16 +44,6 @@ CLASSES = ("damaged+noise", "damaged+frame", "damaged split", "runaway record",
            "noise absorbed", "glued frames", "split", "as noise", "other")
 
 
-def line_times(path):
-    """t1.5 and t3.5 in seconds from a truth file's capture header."""
-    with open(path, encoding="utf-8") as f:
-        head = json.loads(f.readline())
-    baud, bits = head["baud"], head["bits_per_char"]
-    if baud > 19200:
-        return 750e-6, 1750e-6
-    return 1.5 * bits / baud, 3.5 * bits / baud
-
-
 def end(r):
     return r["_pos"] + len(r["_hex"]) // 2
 
@@ -135,8 +125,8 @@ def describe(frame, truth, decoded, t3_5):
 def analyse(truth_path, decoded_path):
     truth = score.load(truth_path)
     decoded = score.load(decoded_path)
-    s = score.score(truth, decoded)
-    t1_5, t3_5 = line_times(truth_path)
+    t1_5, t3_5 = score.line_times(truth_path)
+    s = score.score(truth, decoded, t3_5)
     out = []
     for frame in s["_misses"]:
         cls, gap = classify(frame, truth, decoded)

@@ -16,6 +16,12 @@ Metrics
              in exactly one decoded record.
   t error    |decoded t - truth t| of found frames, median and maximum, in ms (reported only:
              with batched reads the decoder can only estimate when a frame started).
+  timing     the t1.5 and t3.5 flags on found frames, each true or false by the truth. A t3.5
+             flag is true when the line was silent for less than t3.5 before the frame (since
+             the end of the record before it, frame or noise); a t1.5 flag is true when the
+             truth frame carries the t1.5 fault (a pause inside it). A false flag is timing evidence invented where
+             the capture could not show it, and fails the configuration; a violation that goes
+             unflagged does not (batched reads hide most of them).
   pairing    truth transactions (an intact request and its intact response: no crc,
              truncated or wrong_slave fault) whose two frames share a non-null txn in the
              decoded output; "false pairs" counts decoded txn groups that are not a truth
@@ -66,8 +72,58 @@ def load(path):
     return records
 
 
-def score(truth, decoded):
-    """Counts for one truth/decoded pair (see the module doc)."""
+def line_times(path):
+    """t1.5 and t3.5 in seconds from a truth file's capture header."""
+    with open(path, encoding="utf-8") as f:
+        head = json.loads(f.readline())
+    baud, bits = head["baud"], head["bits_per_char"]
+    if baud > 19200:
+        return 750e-6, 1750e-6
+    return 1.5 * bits / baud, 3.5 * bits / baud
+
+
+# Times in the truth are exact to the nanosecond; a decoder's are rounded to its own output.
+TIME_TOLERANCE = 2e-6
+
+
+def truth_silences(truth):
+    """Silence before each truth frame (by id), in seconds: since the end of the record
+    before it, frame or noise (any bytes on the line). None for the first record."""
+    silences = {}
+    prev_end = None
+    for r in truth:
+        if r["kind"] == "frame":
+            silences[id(r)] = None if prev_end is None else float(r["t"]) - prev_end
+        prev_end = float(r["t_end"])
+    return silences
+
+
+def score_timing(truth_frames, found, silences, t3_5):
+    """Timing flags on found frames against the truth (see the module doc)."""
+    counts = {"t35_truth": 0, "t35_flagged": 0, "t35_false": 0,
+              "t15_truth": 0, "t15_flagged": 0, "t15_false": 0}
+    false_flags = []
+    for t in truth_frames:
+        silence = silences.get(id(t))
+        short_silence = silence is not None and silence < t3_5 - TIME_TOLERANCE
+        inner_pause = "t1.5" in t.get("faults", [])
+        counts["t35_truth"] += short_silence
+        counts["t15_truth"] += inner_pause
+        d = found.get(id(t))
+        if d is None or d["kind"] != "frame":
+            continue
+        issues = d.get("issues") or []
+        for flag, key, true in (("t3.5", "t35", short_silence), ("t1.5", "t15", inner_pause)):
+            if flag in issues:
+                counts[key + "_flagged"] += 1
+                if not true:
+                    counts[key + "_false"] += 1
+                    false_flags.append((flag, d, silence))
+    return counts, false_flags
+
+
+def score(truth, decoded, t3_5):
+    """Counts for one truth/decoded pair (see the module doc); `t3_5` in seconds."""
     spans = {(r["_pos"], r["_hex"]): r for r in decoded}
     truth_frames = [r for r in truth if r["kind"] == "frame"]
     truth_spans = {(r["_pos"], r["_hex"]): r for r in truth_frames}
@@ -125,6 +181,8 @@ def score(truth, decoded):
     misses = [t for t in truth_frames if id(t) not in found]
     false_frames = [d for d in decoded_frames if (d["_pos"], d["_hex"]) not in truth_spans]
 
+    timing, false_flags = score_timing(truth_frames, found, truth_silences(truth), t3_5)
+
     truth_stream = "".join(r["_hex"] for r in truth)
     decoded_stream = "".join(r["_hex"] for r in decoded)
     return {
@@ -138,10 +196,12 @@ def score(truth, decoded):
         "pairs": pairs,
         "paired": paired,
         "false_pairs": false_pairs,
+        **timing,
         "runs": 1,
         "_t_errors": t_errors,
         "_misses": misses,
         "_false": false_frames,
+        "_false_flags": false_flags,
     }
 
 
@@ -154,6 +214,9 @@ def show_errors(s, limit, decoded):
     def brief(r):
         extra = r.get("faults", r.get("issues", r.get("cause", "")))
         return f"{r['kind']:5} @{r['_pos']:<7} t={r.get('t')} {r['_hex'][:48]} {extra}"
+    for flag, d, silence in s["_false_flags"][:limit]:
+        shown = "-" if silence is None else f"{silence * 1e3:.3f} ms"
+        print(f"false {flag} flag: decoded {brief(d)}; truth silence before it {shown}")
     for title, items in (("missed truth frames", s["_misses"]), ("false decoded frames", s["_false"])):
         print(f"{title}: {len(items)}")
         for r in items[:limit]:
@@ -171,7 +234,8 @@ def ratio(n, d):
 def verdict(s, target):
     recall = ratio(s["found"], s["truth_frames"])
     precision = ratio(s["true_frames"], s["decoded_frames"])
-    ok = recall >= target and precision >= target and s["bytes_ok"] == s["runs"]
+    ok = (recall >= target and precision >= target and s["bytes_ok"] == s["runs"]
+          and s["t35_false"] == 0 and s["t15_false"] == 0)
     return recall, precision, ok
 
 
@@ -188,7 +252,8 @@ def pct(x):
 
 def print_table(rows):
     header = ("configuration", "runs", "frames", "recall", "precision", "bytes", "pairing",
-              "false pairs", "t error ms p50/max", "target", "result")
+              "false pairs", "t1.5 flagged", "t3.5 flagged", "false flags", "t error ms p50/max",
+              "target", "result")
     lines = []
     passed = failed = 0
     for label, target, s in rows:
@@ -197,7 +262,9 @@ def print_table(rows):
         failed += not ok
         lines.append((label, str(s["runs"]), str(s["truth_frames"]), pct(recall), pct(precision),
                       f"{s['bytes_ok']}/{s['runs']} ok", pct(ratio(s["paired"], s["pairs"])),
-                      str(s["false_pairs"]), t_error_text(s["_t_errors"]), pct(target),
+                      str(s["false_pairs"]), f"{s['t15_flagged']}/{s['t15_truth']}",
+                      f"{s['t35_flagged']}/{s['t35_truth']}",
+                      str(s["t15_false"] + s["t35_false"]), t_error_text(s["_t_errors"]), pct(target),
                       "pass" if ok else "FAIL"))
     widths = [max(len(r[i]) for r in [header] + lines) for i in range(len(header))]
     for r in [header] + lines:
@@ -225,7 +292,7 @@ def main(argv):
                 if not line.strip():
                     continue
                 label, target, truth, decoded = line.rstrip("\n").split("\t")
-                s = score(load(truth), load(decoded))
+                s = score(load(truth), load(decoded), line_times(truth)[1])
                 if label not in totals:
                     order.append(label)
                     totals[label] = (float(target), s)
@@ -236,7 +303,7 @@ def main(argv):
     if not args.truth or not args.decoded:
         ap.error("give TRUTH and DECODED, or --manifest")
     decoded = load(args.decoded)
-    s = score(load(args.truth), decoded)
+    s = score(load(args.truth), decoded, line_times(args.truth)[1])
     if args.show:
         show_errors(s, args.show, decoded)
     return 0 if print_table([(args.label, args.target, s)]) else 1

@@ -5,12 +5,16 @@
                             [--build build] [--floor]
 
 A master and a slave endpoint of rtuvbus exchange CRC-valid Modbus frames back to back
-(requests of 8 bytes, answers of 5-69 bytes, a t3.5-sized pause between frames), which keeps
-the line about 90% busy. The bus delivers byte by byte at the line rate, and rtuscope
-listens on a third endpoint that receives through a USB-adapter model with the given latency
-timer: with 1 ms (the smallest a common adapter has) a long answer arrives in a read per
-millisecond, as from a real FTDI adapter, not in one read per frame. rtuscope writes JSON
-lines to /dev/null and records a pcapng. Prints the line load, the CPU that rtuscope used
+(requests of 8 bytes, answers of 5-69 bytes, a pause of four characters between frames),
+which keeps the line about 90% busy. Four characters is what many devices keep at any rate;
+above 19200 baud the spec asks for 1.75 ms (18 characters at 115200), so this bus breaks t3.5
+before nearly every frame, and rtuscope flags it wherever its reads show the silence.
+
+The bus delivers byte by byte at the line rate, and rtuscope listens on a third endpoint that
+receives through a USB-adapter model with the given latency timer: with 1 ms (the smallest a
+common adapter has) a long answer arrives in a read per millisecond, as from a real FTDI
+adapter, not in one read per frame. rtuscope writes JSON lines to /dev/null (LIVE_CPU_JSONL
+names a file instead) and records a pcapng. Prints the line load, the CPU that rtuscope used
 (the scheduler's nanosecond count, /proc/PID/task/*/schedstat) as a share of one core, and
 rtuscope's own summary of its reads.
 
@@ -85,7 +89,7 @@ def main():
             tty.setraw(fd)
             os.set_blocking(fd, False)  # each also hears the other: drained, never waited on
         cycle = frames()
-        pause = 4 * char_s  # a little over t3.5 between frames
+        pause = 4 * char_s  # 3.5 characters and a little more: short of the spec's 1.75 ms
         start_cpu = cpu_seconds_exact(live.pid)
         start = time.monotonic()
         due = start

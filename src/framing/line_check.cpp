@@ -108,10 +108,10 @@ std::size_t LineCheck::bucket_by_formula(Nanos spacing) {
   return std::min(b, kBuckets - 1);
 }
 
-std::size_t LineCheck::bucket_of(Nanos spacing) {
+const BucketIndex& LineCheck::bucket_index() {
   // The formula's buckets, without a logarithm per byte of a per-byte capture.
   static const BucketIndex index(BucketIndex::lower_bounds_of(bucket_by_formula));
-  return index.find(std::max<Nanos>(spacing, 0));
+  return index;
 }
 
 void LineCheck::add(const Chunk& chunk) {
@@ -124,12 +124,55 @@ void LineCheck::add(const Chunk& chunk) {
   }
   // Logic analysers give each byte's start; per-byte reads give its end. Either way the
   // difference between consecutive bytes is their spacing.
-  add_single_byte(chunk.t_first_start != kUnknownTime ? chunk.t_first_start : chunk.t_end);
+  const Nanos t = chunk.t_first_start != kUnknownTime ? chunk.t_first_start : chunk.t_end;
+  add_single_bytes(&t, 1);
 }
 
 void LineCheck::add(const ByteReads& reads) {
   chunks_ += reads.size();
-  for (std::size_t i = 0; i < reads.size(); ++i) add_single_byte(reads.t_ends[i]);
+  add_single_bytes(reads.t_ends, reads.size());
+}
+
+void LineCheck::add_single_bytes(const Nanos* times, std::size_t n) {
+  // Counted in locals, a run of spacings in one bucket at a time, and stored once the bucket
+  // changes: adding each spacing to its bucket in memory made every byte of a per-byte
+  // capture wait for the store of the byte before it to the same place.
+  const BucketIndex& index = bucket_index();
+  Nanos last = last_;
+  std::size_t bucket = bucket_;
+  Nanos from = bucket_from_;
+  Nanos below = bucket_below_;
+  std::uint64_t count = 0;
+  std::uint64_t sum = 0;
+  const auto store_run = [&] {
+    counts_[bucket] += count;
+    sums_[bucket] += sum;
+    spacings_ += count;
+    count = 0;
+    sum = 0;
+  };
+  // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
+  constexpr Nanos kTop = kNanosPerSecond * 4;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Nanos t = times[i];
+    if (last != kUnknownTime && t >= last) {
+      const Nanos spacing = std::min(t - last, kTop);
+      if (spacing < from || spacing >= below) {
+        store_run();
+        bucket = index.find(spacing);
+        from = index.lower(bucket);
+        below = bucket + 1 < index.buckets() ? index.lower(bucket + 1) : kTop + 1;
+      }
+      ++count;
+      sum += static_cast<std::uint64_t>(spacing);
+    }
+    last = t;
+  }
+  store_run();
+  last_ = last;
+  bucket_ = bucket;
+  bucket_from_ = from;
+  bucket_below_ = below;
 }
 
 std::optional<Nanos> LineCheck::byte_spacing(Nanos precision) const {

@@ -26,6 +26,8 @@
 
 namespace rtu {
 
+class BucketIndex;
+
 // The line a capture's byte timing points to: a standard rate at one character size.
 struct InferredLine {
   std::uint32_t baud = 0;
@@ -60,28 +62,14 @@ class LineCheck {
   static constexpr std::size_t kPerOctave = 48;
   static constexpr std::size_t kBuckets = 1 + kPerOctave * 21;  // below 1 µs, then 1 µs to ~2 s
   static std::size_t bucket_by_formula(Nanos spacing);          // the definition
-  static std::size_t bucket_of(Nanos spacing);                  // the same, looked up
+  static const BucketIndex& bucket_index();                     // the same, looked up
   struct Cluster {
     Nanos spacing = 0;
     std::uint64_t count = 0;
   };
   [[nodiscard]] std::optional<Cluster> densest_cluster(Nanos precision) const;
-  // A single-byte read (or a byte whose start was measured) at `t`.
-  void add_single_byte(Nanos t) {
-    if (last_ != kUnknownTime && t >= last_) {
-      // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
-      const Nanos top = kNanosPerSecond * 4;
-      const Nanos spacing = std::min(t - last_, top);
-      if (spacing != memo_spacing_) {
-        memo_spacing_ = spacing;
-        memo_bucket_ = bucket_of(spacing);
-      }
-      ++counts_[memo_bucket_];
-      sums_[memo_bucket_] += static_cast<std::uint64_t>(spacing);
-      ++spacings_;
-    }
-    last_ = t;
-  }
+  // Single-byte reads (or bytes whose starts were measured) at `times`, in order.
+  void add_single_bytes(const Nanos* times, std::size_t n);
 
   std::array<std::uint64_t, kBuckets> counts_{};
   std::array<std::uint64_t, kBuckets> sums_{};  // ns, for the exact mean of a cluster
@@ -89,10 +77,11 @@ class LineCheck {
   std::uint64_t chunks_ = 0;
   std::uint64_t multi_byte_chunks_ = 0;
   Nanos last_ = kUnknownTime;  // time of the previous single-byte chunk
-  // The last spacing's bucket: back-to-back bytes repeat one spacing, and bucket_of() takes
-  // a logarithm.
-  Nanos memo_spacing_ = -1;
-  std::size_t memo_bucket_ = 0;
+  // The range of the bucket the last spacing went to, [bucket_from_, bucket_below_): back-to-
+  // back bytes repeat one spacing, and finding a bucket takes a look-up.
+  std::size_t bucket_ = 0;
+  Nanos bucket_from_ = 0;
+  Nanos bucket_below_ = 0;
 };
 
 // The standard baud rate within 3% of `rate`, else nullopt.

@@ -1,5 +1,6 @@
 // Throughput of the hot stages one at a time, so that an optimisation's gain can be measured
-// before and after on the stage it touches: time parsing, CRC, text hex reading, the framer,
+// before and after on the stage it touches: time parsing, CRC, text hex reading, the line
+// check's survey of byte spacings, the framer,
 // the tracker, the statistics, PDU decoding, the statistics' histograms, the report's whole
 // pass after the reader, and JSON writing.
 // Run: build/tools/bench/rtuscope_bench --benchmark_filter=Stage
@@ -22,6 +23,7 @@
 #include "dissect/device_stage.hpp"
 #include "dissect/device_table.hpp"
 #include "framing/framer.hpp"
+#include "framing/line_check.hpp"
 #include "modbus/pdu.hpp"
 #include "pairing/transaction_tracker.hpp"
 #include "pipeline/decode_pipeline.hpp"
@@ -96,6 +98,27 @@ void BM_StageTextHexReader(benchmark::State& state) {
   }
   std::remove(path.c_str());
   state.SetItemsProcessed(lines);
+}
+
+// The line check's survey of a per-byte capture's reads (every byte's spacing into its
+// histogram), as the reading thread of a per-byte replay does it alongside the parsing.
+void BM_StageLineCheck(benchmark::State& state) {
+  const auto chunks = polling(4000).per_byte();
+  std::vector<std::uint8_t> bytes;
+  std::vector<Nanos> t_ends;
+  for (const Chunk& c : chunks) {
+    bytes.push_back(c.bytes[0]);
+    t_ends.push_back(c.t_end);
+  }
+  ByteReads reads;
+  reads.bytes = bytes;
+  reads.t_ends = t_ends.data();
+  for (auto _ : state) {
+    LineCheck check;
+    check.add(reads);
+    benchmark::DoNotOptimize(check.byte_spacing(0));
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(bytes.size()));
 }
 
 // The framer alone on the polling traffic's reads (arg 0: one byte a read, 1: 16 ms USB
@@ -268,6 +291,7 @@ void BM_StageJsonlRecord(benchmark::State& state) {
 BENCHMARK(BM_StageDecimalSeconds);
 BENCHMARK(BM_StageCrc16)->Arg(8)->Arg(256);
 BENCHMARK(BM_StageTextHexReader)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageLineCheck)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StageFramer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageTracker)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageStatistics)->Unit(benchmark::kMillisecond);

@@ -143,6 +143,41 @@ TEST(LineCheck, ReadJitterDoesNotLookLikeAFasterLine) {
   EXPECT_EQ(fed(chunks).warning(at(9600), kMicro), std::nullopt);
 }
 
+TEST(LineCheck, RunsOfOneByteReadsCountAsTheReadsOneByOne) {
+  // A per-byte replay hands the check runs of one-byte reads (ByteReads) of any length; it
+  // counts a run of spacings in one bucket at a time and carries the bucket across runs.
+  // Jittered stamps move the spacings between buckets all the time.
+  const auto bus = polling(at(9600), 40);
+  std::vector<Chunk> chunks = bus.per_byte();
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<Nanos> late(0, 150 * kMicro);
+  for (Chunk& c : chunks) c.t_end += late(rng);
+  std::vector<std::uint8_t> bytes;
+  std::vector<Nanos> t_ends;
+  for (const Chunk& c : chunks) {
+    bytes.push_back(c.bytes[0]);
+    t_ends.push_back(c.t_end);
+  }
+  LineCheck in_runs;
+  std::size_t run = 1;
+  for (std::size_t from = 0; from < bytes.size(); from += run, run = run % 37 + 1) {
+    ByteReads reads;
+    reads.bytes =
+        std::span<const std::uint8_t>(bytes).subspan(from, std::min(run, bytes.size() - from));
+    reads.t_ends = t_ends.data() + from;
+    in_runs.add(reads);
+  }
+  const auto one_by_one = fed(chunks).infer_line(kMicro);
+  const auto by_runs = in_runs.infer_line(kMicro);
+  ASSERT_TRUE(one_by_one.has_value());
+  ASSERT_TRUE(by_runs.has_value());
+  EXPECT_EQ(by_runs->spacing, one_by_one->spacing);
+  EXPECT_EQ(by_runs->agreeing, one_by_one->agreeing);
+  EXPECT_EQ(by_runs->spacings, one_by_one->spacings);
+  EXPECT_EQ(by_runs->spacings, bytes.size() - 1);
+  EXPECT_EQ(by_runs->baud, 9600U);
+}
+
 TEST(LineCheck, ADeviceThatPausesHalfACharacterIsNotASlowerLine) {
   const LineSettings line = at(19200);
   const auto bus = polling(line, 30, line.char_time() / 2);

@@ -7,8 +7,8 @@ ep0, a slave (our libmodbus server, or Debian's pymodbus) answers on ep1, and
   * every byte the peers wrote (the bus log) was captured, in order;
   * every burst a peer wrote is one CRC-valid frame, requests paired with their responses,
     the request to an absent slave timed out, and every frame decoded (function named);
-  * every t1.5 and t3.5 flag is true on the wire (the bus log's times): timing is
-    evidence only where the reads could show it;
+  * the timing flags hold on the wire (the bus log's times): no t1.5 flag on a burst, and
+    no t3.5 flag on a silence longer than t3.5 and what a loaded host's reads may lose;
   * `rtuscope decode` of the pcapng written meanwhile gives the same records.
 """
 import argparse
@@ -83,22 +83,30 @@ def t3_5_seconds(baud):
     return 1.75e-3 if baud > 19200 else 3.5 * 11 / baud
 
 
+# How late a loaded test machine (two cores, sanitizers) may read a byte beyond the 1 ms
+# that rtuscope assumes of a host's reads. The last byte before a silence arrives alone, so a
+# late read of it shortens the silence rtuscope measures without any sign in the reads. The
+# silences that matter here are far from this: answers come 0.1-2 ms after their request,
+# and the next request 20 ms or more after that.
+HOST_LATENESS = 5e-3
+
+
 def check_timing_flags(bursts, frames, baud):
     """Every timing flag is true on the wire: a t3.5 flag only where the bus was silent
-    for less than t3.5 before the frame, and no t1.5 flag (a burst has no pause inside).
-    Returns how many t3.5 flags there were and how many frames broke t3.5 on the wire."""
+    for less than t3.5 before the frame (give or take the host's lateness), and no t1.5 flag
+    (a burst has no pause inside). Returns how many t3.5 flags there were and how many frames
+    broke t3.5 on the wire."""
     t3_5 = t3_5_seconds(baud)
     flagged = violations = 0
     for i, ((_, _, start, _), frame) in enumerate(zip(bursts, frames)):
         silence = start - bursts[i - 1][3] if i > 0 else None
-        short = silence is not None and silence < t3_5
-        violations += short
+        violations += silence is not None and silence < t3_5
         issues = frame.get("issues") or []
         if "t1.5" in issues:
             fail(f"t1.5 flag on a frame the bus sent without a pause: {frame}")
         if "t3.5" in issues:
             flagged += 1
-            if not short:
+            if silence is None or silence >= t3_5 + HOST_LATENESS:
                 shown = "none before it" if silence is None else f"{silence * 1e3:.3f} ms"
                 fail(f"t3.5 flag where the bus was silent for {shown} "
                      f"(t3.5 is {t3_5 * 1e3:.3f} ms): {frame}")
@@ -312,7 +320,8 @@ def main():
 
     # 5. Timing flags are evidence, never invented.
     flagged, violations = check_timing_flags(bursts, frames, baud)
-    print(f"t3.5: {flagged} flagged, all true; {violations} frames broke it on the wire")
+    print(f"t3.5: {flagged} flagged, none on a long silence; {violations} frames broke it "
+          f"on the wire")
 
     # 6. The recording replays to the same records.
     replay = subprocess.run([args.rtuscope, "decode", pcapng, "--format", "jsonl"],

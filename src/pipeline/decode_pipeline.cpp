@@ -162,7 +162,16 @@ void DecodePipeline::push_byte_reads(const ByteReads& reads) {
 }
 
 void DecodePipeline::push_read(Framer& framer, const Chunk& chunk) {
-  idle(chunk.t_end);  // nothing was read, on any port, before this read completed
+  // Nothing was read, on any port, before this read completed: that moment was idle. But no
+  // later than its first byte could still have been unread (on the wire, then held for an
+  // adapter's delivery delay): a read of more bytes than that delay spans holds bytes older
+  // than its end allows for, and deciding at its end would time out a request whose answer
+  // starts in it before the deadline, or end a frame the read goes on with.
+  const Nanos first_start =
+      chunk.t_first_start != kUnknownTime
+          ? chunk.t_first_start
+          : chunk.t_end - static_cast<Nanos>(chunk.bytes.size()) * impl_->options.line.char_time();
+  idle(std::min(chunk.t_end, first_start + framer.unread_reach()));
   framer.push(chunk);
   impl_->merge.drain();
 }

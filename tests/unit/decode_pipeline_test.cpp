@@ -1,7 +1,8 @@
 // DecodePipeline::push_byte_reads() tells the pairing what push() of each read tells it: the
 // same records, and before each record and at the end, the line decided at least as far.
 // The runs skip the moves of the decided time that a later one covers, so only how far it
-// got by each record can be compared, not every move.
+// got by each record can be compared, not every move. And a long read's bytes count from
+// when they were on the wire, not from when the read completed.
 #include "pipeline/decode_pipeline.hpp"
 
 #include <fmt/format.h>
@@ -129,6 +130,64 @@ TEST(DecodePipeline, RunsOfOneByteReadsTellThePairingWhatTheReadsOneByOneTell) {
     pipeline.finish();
     EXPECT_EQ(got.lines, expected.lines);
   }
+}
+
+// What the pairing made of each frame: its role, transaction and issues.
+class Verdicts final : public RecordSink {
+ public:
+  void on_record(Record& r) override {
+    if (r.kind == RecordKind::kFrame) frames.push_back(r);
+  }
+  std::vector<Record> frames;
+};
+
+// A request read byte by byte, then its answer of 25 bytes in one read (a reader or adapter
+// that delivered 29 ms of bytes at once, at 9600 baud), starting `answer_after` after the
+// request ended. The read completes well after the response timeout either way.
+std::vector<Record> request_and_long_answer(Nanos answer_after) {
+  const Nanos char_time = LineSettings{}.char_time();
+  PipelineOptions opts;
+  opts.timing_resolution = kNanosPerMilli;
+  opts.response_timeout = 100 * kNanosPerMilli;
+  Verdicts verdicts;
+  DecodePipeline pipeline(opts, verdicts);
+  const std::vector<std::uint8_t> request = with_crc({0x01, 0x03, 0x00, 0x00, 0x00, 0x0A});
+  std::vector<std::uint8_t> answer = {0x01, 0x03, 0x14};
+  for (int i = 0; i < 20; ++i) answer.push_back(static_cast<std::uint8_t>(i));
+  answer = with_crc(answer);
+  Nanos t = kNanosPerSecond;
+  for (std::size_t i = 0; i < request.size(); ++i) {
+    t += char_time;
+    Chunk chunk;
+    chunk.t_end = t;
+    chunk.bytes = {&request[i], 1};
+    pipeline.push(chunk);
+  }
+  Chunk long_read;
+  long_read.t_end = t + answer_after + static_cast<Nanos>(answer.size()) * char_time;
+  long_read.bytes = answer;
+  pipeline.push(long_read);
+  pipeline.finish();
+  return verdicts.frames;
+}
+
+TEST(DecodePipeline, AnAnswerThatStartsBeforeTheTimeoutInALongReadIsPaired) {
+  // The moment before the long read is idle, but not at its end: its first bytes were on the
+  // wire 29 ms before, 1 ms before the deadline.
+  const auto in_time = request_and_long_answer(99 * kNanosPerMilli);
+  ASSERT_EQ(in_time.size(), 2U);
+  EXPECT_FALSE(in_time[0].issues.has(IssueId::kTimeout));
+  EXPECT_FALSE(in_time[1].issues.has(IssueId::kLate));
+  EXPECT_EQ(in_time[1].role, Role::kResponse);
+  EXPECT_NE(in_time[0].txn, -1);
+  EXPECT_EQ(in_time[0].txn, in_time[1].txn);
+  EXPECT_EQ(in_time[1].latency, 99 * kNanosPerMilli);
+
+  // Starting 1 ms after the deadline, the same read's answer is late.
+  const auto late = request_and_long_answer(101 * kNanosPerMilli);
+  ASSERT_EQ(late.size(), 2U);
+  EXPECT_TRUE(late[0].issues.has(IssueId::kTimeout));
+  EXPECT_TRUE(late[1].issues.has(IssueId::kLate));
 }
 
 }  // namespace

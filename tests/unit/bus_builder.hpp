@@ -20,6 +20,23 @@ inline std::vector<std::uint8_t> with_crc(std::initializer_list<std::uint8_t> bo
   return adu;
 }
 
+// One-byte reads (each chunk's byte and its stamp) side by side, as a per-byte replay hands
+// runs of them over (ByteReads).
+struct ByteRun {
+  explicit ByteRun(const std::vector<Chunk>& reads) {
+    for (const Chunk& read : reads) {
+      bytes.push_back(read.bytes[0]);
+      t_ends.push_back(read.t_end);
+    }
+  }
+  // Reads [first, first + size) as one run, the first of them numbered `origin`.
+  [[nodiscard]] ByteReads slice(std::size_t first, std::size_t size, std::uint64_t origin) const {
+    return ByteReads{std::span(bytes).subspan(first, size), t_ends.data() + first, origin, 0};
+  }
+  std::vector<std::uint8_t> bytes;
+  std::vector<Nanos> t_ends;
+};
+
 class BusBuilder {
  public:
   explicit BusBuilder(LineSettings line = {}) : line_(line) {}
@@ -48,6 +65,10 @@ class BusBuilder {
     }
     return out;
   }
+
+  // The same as one run of one-byte reads (as a per-byte replay hands them over), valid
+  // while this builder lives and nothing is added to it.
+  [[nodiscard]] ByteReads byte_reads() const { return ByteReads{bytes_, ends_.data(), 1, 0}; }
 
   // A USB adapter: every `period` it delivers whatever arrived since its last delivery.
   [[nodiscard]] std::vector<Chunk> batched(Nanos period) const {

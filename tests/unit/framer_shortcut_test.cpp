@@ -18,6 +18,7 @@ namespace rtu {
 namespace {
 
 using test::BusBuilder;
+using test::ByteRun;
 using test::CollectingSink;
 using test::with_crc;
 
@@ -162,12 +163,7 @@ TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
 TEST(FramerShortcut, TakingRunsOfReadsAtOnceChangesNothing) {
   const BusBuilder bus = sick_polling(4);
   const std::vector<Chunk> reads = sick_reads(bus, 4);
-  std::vector<std::uint8_t> bytes;
-  std::vector<Nanos> t_ends;
-  for (const Chunk& read : reads) {
-    bytes.push_back(read.bytes[0]);
-    t_ends.push_back(read.t_end);
-  }
+  const ByteRun run_of_reads(reads);
   // Exact timestamps, and coarse ones (longer than the framer's delivery patience: a read
   // after a pause too short to show as a silence may still come when advance() decides).
   for (const Nanos resolution : {kNanosPerMicro, 30 * kMs})
@@ -184,8 +180,7 @@ TEST(FramerShortcut, TakingRunsOfReadsAtOnceChangesNothing) {
       std::size_t longest = 0;
       for (std::size_t first = 0; first < reads.size(); first += run) {
         const std::size_t size = std::min(run, reads.size() - first);
-        const ByteReads piece{std::span(bytes).subspan(first, size), t_ends.data() + first,
-                              reads[first].origin, 0};
+        const ByteReads piece = run_of_reads.slice(first, size, reads[first].origin);
         for (std::size_t i = 0; i < size;) {
           Nanos latest = kUnknownTime;
           const std::size_t n = by_runs.push_reads_while_head_waits(piece, i, latest);

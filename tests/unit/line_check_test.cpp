@@ -49,6 +49,15 @@ BusBuilder polling(LineSettings line, int transactions, Nanos pause_in_frames = 
   return bus;
 }
 
+// Per-byte host reads, each stamped late by 0-150 µs.
+std::vector<Chunk> jittered_per_byte(const BusBuilder& bus, unsigned seed) {
+  std::vector<Chunk> chunks = bus.per_byte();
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<Nanos> late(0, 150 * kMicro);
+  for (Chunk& c : chunks) c.t_end += late(rng);
+  return chunks;
+}
+
 LineCheck fed(const std::vector<Chunk>& chunks) {
   LineCheck check;
   for (const Chunk& c : chunks) check.add(c);
@@ -133,10 +142,7 @@ TEST(LineCheck, ReadJitterDoesNotLookLikeAFasterLine) {
   // Per-byte host reads: each stamp late by 0-150 µs, so some spacings are well under a
   // character, but the spacing most bytes share is still one character.
   const auto bus = polling(at(9600), 40);
-  std::vector<Chunk> chunks = bus.per_byte();
-  std::mt19937 rng(7);
-  std::uniform_int_distribution<Nanos> late(0, 150 * kMicro);
-  for (Chunk& c : chunks) c.t_end += late(rng);
+  const std::vector<Chunk> chunks = jittered_per_byte(bus, 7);
   const auto spacing = fed(chunks).byte_spacing(kMicro);
   ASSERT_TRUE(spacing.has_value());
   EXPECT_NEAR(static_cast<double>(*spacing), static_cast<double>(at(9600).char_time()), 60e3);
@@ -148,24 +154,12 @@ TEST(LineCheck, RunsOfOneByteReadsCountAsTheReadsOneByOne) {
   // counts a run of spacings in one bucket at a time and carries the bucket across runs.
   // Jittered stamps move the spacings between buckets all the time.
   const auto bus = polling(at(9600), 40);
-  std::vector<Chunk> chunks = bus.per_byte();
-  std::mt19937 rng(11);
-  std::uniform_int_distribution<Nanos> late(0, 150 * kMicro);
-  for (Chunk& c : chunks) c.t_end += late(rng);
-  std::vector<std::uint8_t> bytes;
-  std::vector<Nanos> t_ends;
-  for (const Chunk& c : chunks) {
-    bytes.push_back(c.bytes[0]);
-    t_ends.push_back(c.t_end);
-  }
+  const std::vector<Chunk> chunks = jittered_per_byte(bus, 11);
+  const test::ByteRun reads(chunks);
   LineCheck in_runs;
   std::size_t run = 1;
-  for (std::size_t from = 0; from < bytes.size(); from += run, run = run % 37 + 1) {
-    ByteReads reads;
-    reads.bytes =
-        std::span<const std::uint8_t>(bytes).subspan(from, std::min(run, bytes.size() - from));
-    reads.t_ends = t_ends.data() + from;
-    in_runs.add(reads);
+  for (std::size_t from = 0; from < chunks.size(); from += run, run = run % 37 + 1) {
+    in_runs.add(reads.slice(from, std::min(run, chunks.size() - from), from));
   }
   const auto one_by_one = fed(chunks).infer_line(kMicro);
   const auto by_runs = in_runs.infer_line(kMicro);
@@ -174,7 +168,7 @@ TEST(LineCheck, RunsOfOneByteReadsCountAsTheReadsOneByOne) {
   EXPECT_EQ(by_runs->spacing, one_by_one->spacing);
   EXPECT_EQ(by_runs->agreeing, one_by_one->agreeing);
   EXPECT_EQ(by_runs->spacings, one_by_one->spacings);
-  EXPECT_EQ(by_runs->spacings, bytes.size() - 1);
+  EXPECT_EQ(by_runs->spacings, chunks.size() - 1);
   EXPECT_EQ(by_runs->baud, 9600U);
 }
 

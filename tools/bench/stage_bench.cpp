@@ -103,22 +103,14 @@ void BM_StageTextHexReader(benchmark::State& state) {
 // The line check's survey of a per-byte capture's reads (every byte's spacing into its
 // histogram), as the reading thread of a per-byte replay does it alongside the parsing.
 void BM_StageLineCheck(benchmark::State& state) {
-  const auto chunks = polling(4000).per_byte();
-  std::vector<std::uint8_t> bytes;
-  std::vector<Nanos> t_ends;
-  for (const Chunk& c : chunks) {
-    bytes.push_back(c.bytes[0]);
-    t_ends.push_back(c.t_end);
-  }
-  ByteReads reads;
-  reads.bytes = bytes;
-  reads.t_ends = t_ends.data();
+  const auto bus = polling(4000);
+  const ByteReads reads = bus.byte_reads();
   for (auto _ : state) {
     LineCheck check;
     check.add(reads);
     benchmark::DoNotOptimize(check.byte_spacing(0));
   }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(bytes.size()));
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(reads.size()));
 }
 
 // The framer alone on the polling traffic's reads (arg 0: one byte a read, 1: 16 ms USB

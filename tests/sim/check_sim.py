@@ -225,7 +225,8 @@ def check_faults(sim):
 def check_scorer(sim):
     p = sim.run("score", "--seed", "9", "--transactions", "400", "--faults", "0.2")
     truth = score.load(p["truth"])
-    s = score.score(truth, truth)
+    t3_5 = score.line_times(p["truth"])[1]
+    s = score.score(truth, truth, t3_5)
     expect(s["found"] == s["truth_frames"] and s["true_frames"] == s["decoded_frames"],
            "truth against itself is not 100%")
     expect(s["bytes_ok"] == 1 and s["paired"] == s["pairs"] and s["false_pairs"] == 0,
@@ -241,7 +242,7 @@ def check_scorer(sim):
             r["_pos"] = pos
             pos += len(r["_hex"]) // 2
             out.append(r)
-        return score.score(truth, out)
+        return score.score(truth, out, t3_5)
 
     frames = [i for i, r in enumerate(truth) if r["kind"] == "frame"]
     # 1. Two frames glued into one: recall and precision drop, bytes still add up.
@@ -265,6 +266,24 @@ def check_scorer(sim):
     wrong = dict(truth[k], txn=truth[frames[0]]["txn"])
     s = rescore(truth[:k] + [wrong] + truth[k + 1:])
     expect(s["paired"] < s["pairs"] and s["false_pairs"] >= 1, "wrong txn not counted")
+    # 5. Timing flags: a t3.5 flag after a long silence and a t1.5 flag on a frame sent
+    # without a pause are false; the same flags where the truth has those faults are true.
+    silent = next(i for i in frames[1:] if truth[i]["t"] - truth[i - 1]["t_end"] > 10 * t3_5)
+    clean = next(i for i in frames if "t1.5" not in truth[i]["faults"])
+    flagged = [dict(r) for r in truth]
+    flagged[silent]["issues"] = ["t3.5"]
+    flagged[clean]["issues"] = (flagged[clean].get("issues") or []) + ["t1.5"]
+    s = rescore(flagged)
+    expect(s["t35_false"] == 1 and s["t15_false"] == 1 and s["t35_flagged"] == 1,
+           f"false timing flags not counted: {s['t35_false']} t3.5, {s['t15_false']} t1.5")
+    expect(not score.verdict(s, 0.9)[2], "a false timing flag did not fail the configuration")
+    paused = [i for i in frames if "t1.5" in truth[i]["faults"]]
+    expect(paused, "no t1.5 fault in the scorer's traffic")
+    flagged = [dict(r) for r in truth]
+    for i in paused:
+        flagged[i]["issues"] = ["t1.5"]
+    s = rescore(flagged)
+    expect(s["t15_flagged"] == len(paused) and s["t15_false"] == 0, "true t1.5 flags miscounted")
 
 
 def gaps_ns(path):
@@ -380,7 +399,7 @@ def check_heavy(sim):
             x = dict(x, _pos=pos)
             pos += len(x["_hex"]) // 2
             out.append(x)
-        s = score.score(truth, out)
+        s = score.score(truth, out, score.line_times(per["truth"])[1])
         return [misses.classify(f, truth, out)[0] for f in s["_misses"]]
 
     def index(pred):
@@ -438,7 +457,7 @@ def check_decode_clean(sim, rtuscope):
         with open(decoded, "w") as out:
             subprocess.run([rtuscope, "decode", p[kind], "--format", "jsonl"], stdout=out,
                            check=True)
-        s = score.score(score.load(p["truth"]), score.load(decoded))
+        s = score.score_files(p["truth"], decoded)
         print(kind, {k: v for k, v in s.items() if not k.startswith("_")})
         expect(s["bytes_ok"] == 1, f"{kind}: decoded records do not account for every byte")
         expect(s["found"] == s["truth_frames"], f"{kind}: recall {s['found']}/{s['truth_frames']}")
@@ -446,6 +465,8 @@ def check_decode_clean(sim, rtuscope):
                f"{kind}: precision {s['true_frames']}/{s['decoded_frames']}")
         expect(s["paired"] == s["pairs"] and s["false_pairs"] == 0,
                f"{kind}: pairing {s['paired']}/{s['pairs']}, false pairs {s['false_pairs']}")
+        expect(s["t35_false"] == 0 and s["t15_false"] == 0,
+               f"{kind}: {s['t35_false']} false t3.5 and {s['t15_false']} false t1.5 flags")
 
 
 def check_decode_bytes(sim, rtuscope):
@@ -460,10 +481,12 @@ def check_decode_bytes(sim, rtuscope):
             with open(decoded, "w") as out:
                 subprocess.run([rtuscope, "decode", p["hex"], "--format", "jsonl"], stdout=out,
                                check=True)
-            s = score.score(score.load(p["truth"]), score.load(decoded))
+            s = score.score_files(p["truth"], decoded)
             print(f"{name}: recall {score.ratio(s['found'], s['truth_frames']):.4f} "
                   f"precision {score.ratio(s['true_frames'], s['decoded_frames']):.4f}")
             expect(s["bytes_ok"] == 1, f"{name}: decoded records do not account for every byte")
+            expect(s["t35_false"] == 0 and s["t15_false"] == 0,
+                   f"{name}: {s['t35_false']} false t3.5 and {s['t15_false']} false t1.5 flags")
 
 
 def check_captures(sim, rtuscope, source_dir):
@@ -494,13 +517,14 @@ def check_captures(sim, rtuscope, source_dir):
         with open(decoded, "w") as out:
             subprocess.run([rtuscope, "decode", hex_path, "--format", "jsonl"], stdout=out,
                            check=True)
-        s = score.score(score.load(truth_path), score.load(decoded))
+        s = score.score_files(truth_path, decoded)
         target = 1.0 if "--faults" not in command else 0.99
         recall = score.ratio(s["found"], s["truth_frames"])
         precision = score.ratio(s["true_frames"], s["decoded_frames"])
         print(f"{name}: recall {recall:.4f} precision {precision:.4f} bytes_ok {s['bytes_ok']}")
         expect(s["bytes_ok"] == 1, f"{name}: decoded records do not account for every byte")
         expect(recall >= target and precision >= target, f"{name}: below {target}")
+        expect(s["t35_false"] == 0 and s["t15_false"] == 0, f"{name}: false timing flags")
 
 
 def main():

@@ -205,6 +205,11 @@ def score(truth, decoded, t3_5):
     }
 
 
+def score_files(truth_path, decoded_path):
+    """score() of a truth file and a decoder's output file."""
+    return score(load(truth_path), load(decoded_path), line_times(truth_path)[1])
+
+
 def add(a, b):
     return {k: a.get(k, 0 if not k.startswith("_") else []) + b[k] for k in b}
 
@@ -292,7 +297,7 @@ def main(argv):
                 if not line.strip():
                     continue
                 label, target, truth, decoded = line.rstrip("\n").split("\t")
-                s = score(load(truth), load(decoded), line_times(truth)[1])
+                s = score_files(truth, decoded)
                 if label not in totals:
                     order.append(label)
                     totals[label] = (float(target), s)

@@ -19,9 +19,10 @@ Metrics
   timing     the t1.5 and t3.5 flags on found frames, each true or false by the truth. A t3.5
              flag is true when the line was silent for less than t3.5 before the frame (since
              the end of the record before it, frame or noise); a t1.5 flag is true when the
-             truth frame carries the t1.5 fault (a pause inside it). A false flag is timing evidence invented where
-             the capture could not show it, and fails the configuration; a violation that goes
-             unflagged does not (batched reads hide most of them).
+             truth frame carries the t1.5 fault (a pause inside it). A false flag is timing
+             evidence invented where the capture could not show it, and fails the
+             configuration; a violation that goes unflagged does not (batched reads hide most
+             of them).
   pairing    truth transactions (an intact request and its intact response: no crc,
              truncated or wrong_slave fault) whose two frames share a non-null txn in the
              decoded output; "false pairs" counts decoded txn groups that are not a truth

@@ -49,6 +49,12 @@ void print_summary(const LiveSummary& s) {
              to_seconds(s.duration), s.bytes, s.chunks, s.frames, s.crc_errors,
              s.frames_with_issues, s.transactions, s.timeouts, s.noise_records, s.line_error_bytes,
              s.disconnects, s.idle_wakeups);
+  if (s.late_reads != 0) {
+    fmt::print(stderr,
+               "rtuscope: {} reads came later than the timing resolution allows (the host "
+               "was busy or short of CPU): the silences next to them were not judged\n",
+               s.late_reads);
+  }
   if (s.timing_resolution > s.declared_resolution) {
     fmt::print(stderr,
                "rtuscope: the reads came in batches: gaps below {:.1f} ms were not observable "

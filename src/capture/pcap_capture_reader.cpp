@@ -20,11 +20,14 @@ bool PcapCaptureReader::read(CaptureConsumer& to) {
   }
   if (precision_ == 0 || item_.resolution < precision_) precision_ = item_.resolution;
   switch (item_.kind) {
-    case PcapItem::Kind::kChunk:
-      item_.chunk.t_end =
-          chunk_clamp(item_.chunk.port).admit_at_offset(item_.chunk.t_end, item_.offset);
+    case PcapItem::Kind::kChunk: {
+      const Nanos t_end = item_.chunk.t_end;
+      item_.chunk.t_end = chunk_clamp(item_.chunk.port).admit_at_offset(t_end, item_.offset);
+      // Clamped here, or marked so by whoever wrote the file (a raw export of a clamped read).
+      item_.chunk.time_clamped = item_.chunk.time_clamped || item_.chunk.t_end != t_end;
       to.on_chunk(item_.chunk);
       break;
+    }
     case PcapItem::Kind::kFrame:
       item_.t_start = record_clamp_.admit_at_offset(item_.t_start, item_.offset);
       to.on_frame(item_.bytes, item_.t_start, item_.offset);

@@ -223,12 +223,15 @@ bool PcapImporter::next(PcapItem& out) {
     const std::uint32_t section = packet_.section;
     // Each field set (no reset of the whole item first: this runs at every read). A field
     // added to PcapItem or Chunk must be set here too; the sizes checked make one visible.
-    static_assert(sizeof(PcapItem) == 112 && sizeof(Chunk) == 64,
+    static_assert(sizeof(PcapItem) == 120 && sizeof(Chunk) == 72,
                   "set every field of a chunk item below");
     out.kind = PcapItem::Kind::kChunk;
     out.chunk.t_first_start = kUnknownTime;
     out.chunk.errors = {};
     out.chunk.port = port_of(section, interface_id);
+    out.chunk.time_clamped = false;  // as the file's comment says; the reader's clamp too
+    out.chunk.read_late = false;
+    out.chunk.quiet_until = kUnknownTime;
     out.bytes = {};
     out.t_start = 0;
     out.offset = at;
@@ -242,6 +245,12 @@ bool PcapImporter::next(PcapItem& out) {
       const auto rec = parse_rtac_record(packet_.data, error);
       if (!rec) fail(fmt::format("{}: offset {}: {}", name(), packet_.offset, error));
       const std::uint8_t flags = errors_of(rec->event);
+      if (!packet_.comment.empty()) {
+        const ReadTimeMarks marks = time_marks_of(packet_.comment);
+        out.chunk.read_late = out.chunk.read_late || marks.read_late;
+        if (marks.quiet_before != kUnknownTime) out.chunk.quiet_until = t - marks.quiet_before;
+        out.chunk.time_clamped = out.chunk.time_clamped || marks.time_clamped;
+      }
       if (rec->payload.empty()) {
         pending_errors_ = static_cast<std::uint8_t>(pending_errors_ | flags);
       } else {

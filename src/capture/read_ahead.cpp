@@ -27,7 +27,7 @@ constexpr int kNiceStepsBelowFraming = 3;
 // A per-byte capture's reads (one byte each, no line error, no start time, one after the
 // other on one port) share one item of kind kByteReads: its run holds their bytes, and the
 // batch's byte_times their end times from index `t` on. Each read costs the handover 9
-// bytes instead of a 40-byte item, and most of a per-byte decoding's reading thread was the
+// bytes instead of a 48-byte item, and most of a per-byte decoding's reading thread was the
 // writing of those items.
 struct ReadAhead::Item {
   enum class Kind : std::uint8_t { kChunk, kFrame, kNoise, kEnd, kByteReads };
@@ -39,6 +39,9 @@ struct ReadAhead::Item {
   ByteArena::Run run;
   Kind kind = Kind::kChunk;
   std::uint8_t port = 0;
+  bool time_clamped = false;         // a chunk's
+  bool read_late = false;            // a chunk's
+  Nanos quiet_until = kUnknownTime;  // a chunk's
 };
 
 struct ReadAhead::Batch {
@@ -83,6 +86,9 @@ class ReadAhead::Collector final : public CaptureConsumer {
     Item& item = new_item(Item::Kind::kChunk, chunk.t_end, chunk.origin);
     item.t_first_start = chunk.t_first_start;
     item.port = chunk.port;
+    item.time_clamped = chunk.time_clamped;
+    item.read_late = chunk.read_late;
+    item.quiet_until = chunk.quiet_until;
     item.run = batch_.arena.add(chunk.bytes, chunk.errors);
   }
   void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override {
@@ -184,13 +190,16 @@ const CaptureReader& ReadAhead::source() {
 }
 
 void ReadAhead::deliver(const Item& item, const Batch& batch, CaptureConsumer& to) {
-  static_assert(sizeof(Item) <= 40, "one item per byte of a per-byte capture: keep it small");
+  static_assert(sizeof(Item) <= 48, "one item per read of a batched capture: keep it small");
   const std::span<const std::uint8_t> bytes = batch.arena.bytes(item.run);
   switch (item.kind) {
     case Item::Kind::kChunk: {
       Chunk chunk;
       chunk.t_end = item.t;
       chunk.t_first_start = item.t_first_start;
+      chunk.time_clamped = item.time_clamped;
+      chunk.read_late = item.read_late;
+      chunk.quiet_until = item.quiet_until;
       chunk.bytes = bytes;
       chunk.errors = batch.arena.errors(item.run);
       chunk.origin = item.origin;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <charconv>
 
 #include "capture/byte_order.hpp"
 
@@ -45,6 +46,51 @@ std::optional<RtacRecord> parse_rtac_record(std::span<const std::uint8_t> record
   r.footer = load_u16(record, 10, ByteOrder::kBig);
   r.payload = record.subspan(kRtacHeaderSize);
   return r;
+}
+
+ReadTimeMarks time_marks_of(const Chunk& chunk, Nanos record_time) {
+  ReadTimeMarks marks{chunk.read_late, chunk.time_clamped, kUnknownTime};
+  if (chunk.read_late && chunk.quiet_until != kUnknownTime && chunk.quiet_until <= record_time) {
+    marks.quiet_before = record_time - chunk.quiet_until;
+  }
+  return marks;
+}
+
+std::string time_marks_comment(ReadTimeMarks marks) {
+  std::string comment;
+  const auto line = [&](std::string_view text) {
+    if (!comment.empty()) comment += '\n';
+    comment += text;
+  };
+  if (marks.read_late) {
+    line(kReadLateComment);
+    if (marks.quiet_before != kUnknownTime) {
+      line(fmt::format("{}{}{}", kPortEmptyComment, marks.quiet_before, kPortEmptyCommentEnd));
+    }
+  }
+  if (marks.time_clamped) line(kTimeClampedComment);
+  return comment;
+}
+
+ReadTimeMarks time_marks_of(std::string_view comment) {
+  ReadTimeMarks marks;
+  if (comment.empty()) return marks;
+  marks.read_late = comment.find(kReadLateComment) != std::string_view::npos;
+  marks.time_clamped = comment.find(kTimeClampedComment) != std::string_view::npos;
+  // The number, only as written (anything else leaves it unknown).
+  const std::size_t at = comment.find(kPortEmptyComment);
+  if (marks.read_late && at != std::string_view::npos) {
+    const char* const first = comment.data() + at + kPortEmptyComment.size();
+    const char* const last = comment.data() + comment.size();
+    Nanos before = 0;
+    const auto [next, error] = std::from_chars(first, last, before);
+    if (error == std::errc{} && next != first && before >= 0 &&
+        std::string_view(next, static_cast<std::size_t>(last - next))
+            .starts_with(kPortEmptyCommentEnd)) {
+      marks.quiet_before = before;
+    }
+  }
+  return marks;
 }
 
 }  // namespace rtu

@@ -10,12 +10,43 @@
 #include <string_view>
 #include <vector>
 
+#include "core/chunk.hpp"
 #include "core/time.hpp"
 
 namespace rtu {
 
 inline constexpr std::size_t kRtacHeaderSize = 12;
 inline constexpr std::size_t kRtacEventOffset = 8;  // the event type's byte in the header
+
+// What a read's time is not evidence of travels as a comment (opt_comment) on its first
+// data record, written by a live recording and a raw export: Wireshark shows it, and a
+// reader takes the mark back from it, so the read decodes the same again.
+// Chunk::read_late:
+inline constexpr std::string_view kReadLateComment =
+    "read late: the host took longer than the timing resolution to read these bytes, so "
+    "the silences before and after them are not evidence";
+// Chunk::time_clamped:
+inline constexpr std::string_view kTimeClampedComment =
+    "time clamped: the input's time went back here, so how long after the read before this "
+    "one came is not known";
+
+// Chunk::quiet_until of a late read, as how long before its record's time: "port empty "
+// then that many ns, then kPortEmptyCommentEnd.
+inline constexpr std::string_view kPortEmptyComment = "port empty ";
+inline constexpr std::string_view kPortEmptyCommentEnd =
+    " ns before this read: the line was quiet up to then";
+
+struct ReadTimeMarks {
+  bool read_late = false;
+  bool time_clamped = false;
+  Nanos quiet_before = kUnknownTime;  // see kPortEmptyComment
+};
+// The marks of `chunk`, written on a record of time `record_time`.
+ReadTimeMarks time_marks_of(const Chunk& chunk, Nanos record_time);
+// The comment for `marks`, empty for none (one line each).
+std::string time_marks_comment(ReadTimeMarks marks);
+// The marks a record's comment (its comments joined by newlines) carries.
+ReadTimeMarks time_marks_of(std::string_view comment);
 
 // Event types, with the names Wireshark shows.
 enum class RtacEvent : std::uint8_t {

@@ -226,6 +226,7 @@ bool SaleaeReader::next(Chunk& out) {
 
   const Nanos admitted = clamp_.admit(start, trim(row_.field(time_col_)), lines_.line_number());
   out.t_first_start = admitted;
+  out.time_clamped = admitted != start;
   out.t_end = admitted + duration;
   out.bytes = std::span<const std::uint8_t>(&byte_, 1);
   out.errors = std::span<const std::uint8_t>(&flags_, 1);

@@ -69,13 +69,15 @@ void TextHexReader::fail(std::size_t column0, std::string_view what) const {
       fmt::format("{}:{}:{}: {}", lines_.name(), lines_.line_number(), column0 + 1, what));
 }
 
-inline void TextHexReader::take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
+// Returns whether the line's time went back (and was clamped to the time before).
+inline bool TextHexReader::take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
                                            int decimals) {
   lines_.take_line(length);
   if (decimals > max_decimals_) max_decimals_ = decimals;
   pending_line_ = lines_.line_number();
   pending_t_ = clamp_.admit(ns, stamp, pending_line_);
   seen_data_ = true;
+  return pending_t_ != ns;
 }
 
 inline bool TextHexReader::read_plain_data_after_stamp(std::string_view text,
@@ -113,7 +115,7 @@ inline bool TextHexReader::read_plain_data_after_stamp(std::string_view text,
   if (count == 0) return false;
   byte_count_ = count;
   const std::size_t line_end = static_cast<std::size_t>(p - text.data()) + (p[0] == '\r' ? 2 : 1);
-  take_plain_line(line_end, text.substr(0, stamp_length), ns, decimals);
+  pending_clamped_ = take_plain_line(line_end, text.substr(0, stamp_length), ns, decimals);
   return true;
 }
 
@@ -124,6 +126,7 @@ bool TextHexReader::next(Chunk& out) {
     return false;
   }
   out.t_end = pending_t_;
+  out.time_clamped = pending_clamped_;
   out.t_first_start = kUnknownTime;
   out.bytes = std::span<const std::uint8_t>(bytes_.data(), byte_count_);
   out.errors = {};
@@ -150,14 +153,22 @@ std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, s
             ? hex_pair_value(p + 1)
             : -1;
     if (value >= 0) {
-      take_plain_line(stamp_length + 4, text.substr(0, stamp_length), ns, decimals);
+      if (take_plain_line(stamp_length + 4, text.substr(0, stamp_length), ns, decimals))
+          [[unlikely]] {
+        // Not a read of the run: next() gives it, with its time marked.
+        pending_clamped_ = true;
+        bytes_[0] = static_cast<std::uint8_t>(value);
+        byte_count_ = 1;
+        have_pending_ = true;
+        break;
+      }
       bytes[got] = static_cast<std::uint8_t>(value);
     } else {
       if (stamp_length == 0 || !read_plain_data_after_stamp(text, stamp_length, ns, decimals)) {
         break;
       }
-      if (byte_count_ != 1) {
-        have_pending_ = true;  // a read of several bytes: next() gives it
+      if (byte_count_ != 1 || pending_clamped_) {
+        have_pending_ = true;  // a read of several bytes, or a clamped one: next() gives it
         break;
       }
       bytes[got] = bytes_[0];
@@ -237,6 +248,7 @@ void TextHexReader::parse_data(std::string_view line, std::size_t start) {
   }
   pending_line_ = lines_.line_number();
   pending_t_ = clamp_.admit(t.ns, stamp, pending_line_);
+  pending_clamped_ = pending_t_ != t.ns;
 }
 
 void TextHexReader::parse_comment(std::string_view line, std::size_t hash_pos) {

@@ -78,9 +78,9 @@ class TextHexReader final : public ChunkSource {
                                                           std::size_t stamp_length, Nanos ns,
                                                           int decimals);
   // Consumes the plain data line of `length` characters just parsed (stamp, its value, its
-  // decimals), as its data line.
-  [[gnu::always_inline]] void take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
-                                              int decimals);
+  // decimals), as its data line. True when its time went back and was clamped.
+  [[gnu::always_inline, nodiscard]] bool take_plain_line(std::size_t length, std::string_view stamp,
+                                                         Nanos ns, int decimals);
   void parse_comment(std::string_view line, std::size_t hash_pos);
   void parse_data(std::string_view line, std::size_t start);
   [[noreturn]] void fail(std::size_t column0, std::string_view what) const;
@@ -89,9 +89,10 @@ class TextHexReader final : public ChunkSource {
   BackwardTimeClamp clamp_;
   PartialSettings settings_;
   bool seen_data_ = false;
-  bool have_pending_ = false;  // a data line read ahead by the constructor
+  bool have_pending_ = false;  // a data line read ahead, for next() to give
   int max_decimals_ = -1;
   Nanos pending_t_ = 0;
+  bool pending_clamped_ = false;  // pending_t_ is the time before, the line's went back
   std::uint64_t pending_line_ = 0;
   // The line's bytes are the first byte_count_ of bytes_, which is kept at least half as long
   // as any line read (a byte takes two characters), so parsing never checks for room.

@@ -29,6 +29,19 @@ struct Chunk {
   // Which receiver read it: 0, or 1 for the second port of a two-port capture (the two
   // directions of a link). Each port is framed on its own.
   std::uint8_t port = 0;
+  // The input's time went back here and the reader clamped it to the time before (an NTP
+  // step in a logger, a writer stamping from two threads): the read came after the one
+  // before, but how long after is not known, so the silence before it is not evidence.
+  bool time_clamped = false;
+  // The host read this later than its bytes arrived, by more than the timing resolution
+  // allows for (the reading thread was busy, or waited for a CPU: live capture measures
+  // both). How much of that delay came after the last byte is not known, so the read's
+  // time is no evidence of the silence before it, nor of the one after it.
+  bool read_late = false;
+  // For a late read: the latest moment, on the input's clock, its port was seen holding no
+  // unread bytes (its bytes came after it), so the line is known quiet up to then as far as
+  // an adapter's delivery delay allows; kUnknownTime where that is not known.
+  Nanos quiet_until = kUnknownTime;
 };
 
 // One-byte reads in a row on one port, none with a line error or a measured start: what a
@@ -40,9 +53,11 @@ struct ByteReads {
   std::uint64_t origin = 0;
   std::uint8_t port = 0;
 
-  // Whether `chunk` is a read such a run holds (one byte, no line error, no start time).
+  // Whether `chunk` is a read such a run holds (one byte, no line error, no start time, a
+  // time as the input gave it, read in time).
   [[nodiscard]] static bool holds(const Chunk& chunk) {
-    return chunk.bytes.size() == 1 && chunk.errors.empty() && chunk.t_first_start == kUnknownTime;
+    return chunk.bytes.size() == 1 && chunk.errors.empty() && chunk.t_first_start == kUnknownTime &&
+           !chunk.time_clamped && !chunk.read_late;
   }
   [[nodiscard]] std::size_t size() const { return bytes.size(); }
   // Read i as the Chunk it stands for.

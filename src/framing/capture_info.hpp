@@ -15,6 +15,8 @@ struct CaptureInfo {
   // t1.5/t3.5 issues are only reported where the silence in question is above it.
   Nanos timing_resolution = 0;
   bool per_byte_timing = false;  // every byte has its own timestamp
+  // False for a capture file that holds no bytes at all: then no timing was observed.
+  bool has_bytes = true;
   Nanos response_timeout = 1000 * kNanosPerMilli;
   // Doubts about the capture the user must see (line settings the data contradicts,
   // settings assumed because nothing declared them); also printed on stderr.

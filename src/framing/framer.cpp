@@ -59,7 +59,7 @@ void Framer::slide_window() {
 void Framer::push_without_shortcut(const Chunk& chunk) {
   const std::size_t n = chunk.bytes.size();
   if (n == 0) return;
-  advance(chunk.t_end);
+  if (const Nanos quiet = quiet_known_until(chunk); quiet != kUnknownTime) advance(quiet);
   ++chunks_;
   if (n > 1) ++batched_chunks_;
   watching_reads_ = n < kCrcStepsUpTo || (n < kWatchedReadsUpTo && buffered() >= kWatchedStretch);
@@ -70,6 +70,10 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
   const std::uint8_t* const bytes = chunk.bytes.data();
   const std::uint8_t* const errors = chunk.errors.size() == n ? chunk.errors.data() : nullptr;
   const bool starts_measured = config_.per_byte_exact && chunk.t_first_start != kUnknownTime;
+  // A clamped time says only that the read came after the one before, and a late read's
+  // time is late by an unknown part of its delay: no silence is measured next to either.
+  const bool time_known = !chunk.time_clamped && !chunk.read_late && !after_late_read_;
+  after_late_read_ = chunk.read_late;
   const Nanos first_start = chunk.t_first_start;
   const Nanos read_end = chunk.t_end;
   const std::uint64_t origin = chunk.origin;
@@ -82,7 +86,9 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
       // Measured start of the first byte; any further bytes follow back to back.
       const Nanos start = first_start + static_cast<Nanos>(i) * char_time;
       end = start + char_time;
-      if (last_end != kUnknownTime) gap = std::max<Nanos>(0, start - last_end);
+      if (last_end != kUnknownTime && (i > 0 || time_known)) {
+        gap = std::max<Nanos>(0, start - last_end);
+      }
     } else {
       // The read completed when the last byte had arrived; earlier bytes arrived at the
       // latest one character time apart, and never before the previous byte ended.
@@ -90,7 +96,7 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
       if (last_end != kUnknownTime) {
         end = std::max(end, last_end + char_time);
         // Only a chunk boundary shows a silence; inside a chunk the bytes were batched.
-        if (i == 0) gap = end - char_time - last_end;
+        if (i == 0 && time_known) gap = end - char_time - last_end;
       }
     }
   };
@@ -144,6 +150,16 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
     }
   }
   decide(false);
+}
+
+Nanos Framer::quiet_known_until(const Chunk& chunk) const {
+  const Nanos first_start = chunk.t_first_start != kUnknownTime
+                                ? chunk.t_first_start
+                                : chunk.t_end - static_cast<Nanos>(chunk.bytes.size()) * char_time_;
+  const Nanos unread_from = std::min(chunk.t_end, first_start + unread_reach());
+  if (!chunk.read_late) return unread_from;
+  return chunk.quiet_until == kUnknownTime ? kUnknownTime
+                                           : std::min(unread_from, chunk.quiet_until);
 }
 
 void Framer::decide_after_silence() {

@@ -57,9 +57,10 @@ class Framer {
   // `out` receives every record, in time order. It must outlive the framer.
   Framer(const FramerConfig& config, RecordSink& out);
 
-  // A read: first advance(chunk.t_end) (nothing was read before it), then its bytes.
+  // A read: first advance(quiet_known_until(chunk)) (nothing was read before it), then its
+  // bytes.
   void push(const Chunk& chunk) {
-    if (chunk.bytes.size() == 1 && ByteReads::holds(chunk) &&
+    if (chunk.bytes.size() == 1 && ByteReads::holds(chunk) && !after_late_read_ &&
         push_if_head_waits(chunk.bytes[0], chunk.t_end, chunk.origin)) {
       return;
     }
@@ -114,6 +115,13 @@ class Framer {
   [[nodiscard]] Nanos earliest_unread_start(Nanos now) const { return now - unread_reach(); }
   // How far before a moment of quiet unread bytes may have started (see above).
   [[nodiscard]] Nanos unread_reach() const { return delivery_allowance() + char_time_; }
+  // The latest moment before `chunk` that the line is known to have been quiet, as far as
+  // unread bytes go (what advance() may be told before its bytes): no later than its first
+  // byte could still have been unread, which for a read of more bytes than an adapter's
+  // delivery delay spans lies before its end (deciding at its end would end a frame the
+  // read goes on with); no later than the port was seen empty before a late read, and
+  // kUnknownTime for a late read where that is not known.
+  [[nodiscard]] Nanos quiet_known_until(const Chunk& chunk) const;
   // The moment from which advance() decides the bytes held now (the line quiet for t3.5
   // beyond what an adapter may hold back); kUnknownTime when none are held.
   [[nodiscard]] Nanos decidable_at() const;
@@ -287,6 +295,8 @@ class Framer {
   Record scratch_;
   Record noise_out_;  // a noise record while the sink handles it
 
+  // The last read came late (Chunk::read_late): the silence after it is not measured.
+  bool after_late_read_ = false;
   bool expect_response_ = false;
   std::uint8_t expected_slave_ = 0;
   std::uint8_t expected_function_ = 0;
@@ -309,6 +319,7 @@ inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64
 
 inline std::size_t Framer::push_reads_while_head_waits(const ByteReads& reads, std::size_t first,
                                                        Nanos& latest) {
+  if (after_late_read_) return 0;  // the first read's silence is not measured
   std::size_t i = first;
   if (i < reads.size() && buffered() == 0) {
     if (!push_first_byte_if_it_waits(reads.bytes[i], reads.t_ends[i], reads.origin + i)) return 0;

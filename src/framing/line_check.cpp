@@ -116,8 +116,10 @@ const BucketIndex& LineCheck::bucket_index() {
 
 void LineCheck::add(const Chunk& chunk) {
   ++chunks_;
-  if (chunk.bytes.size() != 1) {
-    // Several bytes in one read: their spacing is unknown, and so is the next byte's.
+  if (chunk.bytes.size() != 1 || chunk.time_clamped || chunk.read_late) {
+    // Several bytes in one read: their spacing is unknown, and so is the next byte's. So is
+    // the spacing before and after a time the reader had to clamp, or a read the host made
+    // late.
     if (chunk.bytes.size() > 1) ++multi_byte_chunks_;
     last_ = kUnknownTime;
     return;
@@ -138,10 +140,20 @@ void LineCheck::add_single_bytes(const Nanos* times, std::size_t n) {
   // changes: adding each spacing to its bucket in memory made every byte of a per-byte
   // capture wait for the store of the byte before it to the same place.
   const BucketIndex& index = bucket_index();
-  Nanos last = last_;
+  // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
+  constexpr Nanos kTop = kNanosPerSecond * 4;
+  // The range of `bucket`, [from, below): back-to-back bytes repeat one spacing, and
+  // finding a bucket takes a look-up.
   std::size_t bucket = bucket_;
-  Nanos from = bucket_from_;
-  Nanos below = bucket_below_;
+  Nanos from = 0;
+  Nanos below = 0;
+  const auto enter = [&](std::size_t b) {
+    bucket = b;
+    from = index.lower(b);
+    below = b + 1 < index.buckets() ? index.lower(b + 1) : kTop + 1;
+  };
+  enter(bucket_);
+  Nanos last = last_;
   std::uint64_t count = 0;
   std::uint64_t sum = 0;
   const auto store_run = [&] {
@@ -151,17 +163,13 @@ void LineCheck::add_single_bytes(const Nanos* times, std::size_t n) {
     count = 0;
     sum = 0;
   };
-  // Long silences all land in the top bucket; clamping keeps the sums from overflowing.
-  constexpr Nanos kTop = kNanosPerSecond * 4;
   for (std::size_t i = 0; i < n; ++i) {
     const Nanos t = times[i];
     if (last != kUnknownTime && t >= last) {
       const Nanos spacing = std::min(t - last, kTop);
       if (spacing < from || spacing >= below) {
         store_run();
-        bucket = index.find(spacing);
-        from = index.lower(bucket);
-        below = bucket + 1 < index.buckets() ? index.lower(bucket + 1) : kTop + 1;
+        enter(index.find(spacing));
       }
       ++count;
       sum += static_cast<std::uint64_t>(spacing);
@@ -171,8 +179,6 @@ void LineCheck::add_single_bytes(const Nanos* times, std::size_t n) {
   store_run();
   last_ = last;
   bucket_ = bucket;
-  bucket_from_ = from;
-  bucket_below_ = below;
 }
 
 std::optional<Nanos> LineCheck::byte_spacing(Nanos precision) const {

@@ -77,11 +77,7 @@ class LineCheck {
   std::uint64_t chunks_ = 0;
   std::uint64_t multi_byte_chunks_ = 0;
   Nanos last_ = kUnknownTime;  // time of the previous single-byte chunk
-  // The range of the bucket the last spacing went to, [bucket_from_, bucket_below_): back-to-
-  // back bytes repeat one spacing, and finding a bucket takes a look-up.
-  std::size_t bucket_ = 0;
-  Nanos bucket_from_ = 0;
-  Nanos bucket_below_ = 0;
+  std::size_t bucket_ = 0;     // the bucket the last spacing went to: the next one's first guess
 };
 
 // The standard baud rate within 3% of `rate`, else nullopt.

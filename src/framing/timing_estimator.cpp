@@ -30,12 +30,15 @@ void TimingEstimator::add(const Chunk& chunk) {
     ++multi_byte_chunks_;
     // Only reads that follow one another while traffic flows show the delivery period;
     // the quiet between bursts of polling says nothing about the adapter.
-    const Nanos interval = last_t_ == kUnknownTime ? kUnknownTime : chunk.t_end - last_t_;
+    const Nanos interval = last_t_ == kUnknownTime || chunk.time_clamped || chunk.read_late
+                               ? kUnknownTime
+                               : chunk.t_end - last_t_;
     if (interval != kUnknownTime && interval <= kMaxDeliveryPeriod) {
       ++multi_intervals_[bucket_of(interval)];
     }
   }
-  last_t_ = chunk.t_end;
+  // A late read's time says nothing of how long the next read came after it.
+  last_t_ = chunk.read_late ? kUnknownTime : chunk.t_end;
 }
 
 bool TimingEstimator::mostly_single_bytes() const {

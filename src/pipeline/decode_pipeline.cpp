@@ -162,16 +162,9 @@ void DecodePipeline::push_byte_reads(const ByteReads& reads) {
 }
 
 void DecodePipeline::push_read(Framer& framer, const Chunk& chunk) {
-  // Nothing was read, on any port, before this read completed: that moment was idle. But no
-  // later than its first byte could still have been unread (on the wire, then held for an
-  // adapter's delivery delay): a read of more bytes than that delay spans holds bytes older
-  // than its end allows for, and deciding at its end would time out a request whose answer
-  // starts in it before the deadline, or end a frame the read goes on with.
-  const Nanos first_start =
-      chunk.t_first_start != kUnknownTime
-          ? chunk.t_first_start
-          : chunk.t_end - static_cast<Nanos>(chunk.bytes.size()) * impl_->options.line.char_time();
-  idle(std::min(chunk.t_end, first_start + framer.unread_reach()));
+  // Nothing was read, on any port, before this read completed: the line was quiet up to
+  // the moment its framer knows of (Framer::quiet_known_until), and no later.
+  if (const Nanos quiet = framer.quiet_known_until(chunk); quiet != kUnknownTime) idle(quiet);
   framer.push(chunk);
   impl_->merge.drain();
 }

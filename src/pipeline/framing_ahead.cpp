@@ -26,6 +26,9 @@ struct FramingAhead::ChunkItem {
   Nanos t_first_start = kUnknownTime;
   std::uint64_t origin = 0;
   std::uint8_t port = 0;
+  bool time_clamped = false;
+  bool read_late = false;
+  Nanos quiet_until = kUnknownTime;
   ByteArena::Run run;
 };
 
@@ -122,6 +125,9 @@ class FramingAhead::Handoff final : public PairingInput {
     item.t_first_start = chunk.t_first_start;
     item.origin = chunk.origin;
     item.port = chunk.port;
+    item.time_clamped = chunk.time_clamped;
+    item.read_late = chunk.read_late;
+    item.quiet_until = chunk.quiet_until;
     item.run = batch.arena.add(chunk.bytes, chunk.errors);
     batch.steps.push_back(Step{Step::Kind::kChunk, 0, batch.chunks.size() - 1});
   }
@@ -214,6 +220,9 @@ void FramingAhead::tell(Batch& batch, PairingInput& pairing) const {
         chunk.errors = batch.arena.errors(item.run);
         chunk.origin = item.origin;
         chunk.port = item.port;
+        chunk.time_clamped = item.time_clamped;
+        chunk.read_late = item.read_late;
+        chunk.quiet_until = item.quiet_until;
         setup_.on_chunk(chunk);
         break;
       }

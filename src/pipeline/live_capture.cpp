@@ -138,6 +138,7 @@ void LiveCapture::on_chunk(Port& port, const Chunk& read) {
   }
   ++summary_.chunks;
   summary_.bytes += chunk.bytes.size();
+  if (chunk.read_late) ++summary_.late_reads;
   if (!chunk.bytes.empty()) summary_.last_byte_at = chunk.t_end;
   for (const auto e : chunk.errors) {
     if (e != kLineOk) ++summary_.line_error_bytes;
@@ -233,8 +234,13 @@ void LiveCapture::schedule_idle(Nanos delay) {
     const Nanos now = clock_.now();
     asio::post(io_, [this, now] {
       if (stopped_) return;
+      // The moment decided at is one with no input pending, and the reads taken before it
+      // have been handled now: a read that comes late after it carries it, and a replay
+      // decides there as this does.
+      for (auto& port : ports_) port->source.note_quiet_until(now);
       pipeline_->idle(now);
       arm_idle_for_pipeline();
+      note_ports_free();
     });
   });
 }
@@ -245,7 +251,13 @@ void LiveCapture::schedule_flush() {
     if (ec || stopped_) return;
     recorder_->flush();
     schedule_flush();
+    note_ports_free();
   });
+}
+
+// The work a timer's handler did is no delay of a read whose bytes come after it.
+void LiveCapture::note_ports_free() {
+  for (auto& port : ports_) port->source.note_free_moment();
 }
 
 void LiveCapture::stop() {

@@ -74,6 +74,7 @@ struct LiveSummary {
   std::uint64_t line_error_bytes = 0;
   std::uint64_t disconnects = 0;
   std::uint64_t idle_wakeups = 0;     // times the idle timer woke the capture up
+  std::uint64_t late_reads = 0;       // reads the host made late (Chunk::read_late)
   std::uint64_t reconnects = 0;       // ports opened again after a disconnect
   Nanos last_byte_at = kUnknownTime;  // capture time of the last read that had bytes
   Nanos duration = 0;
@@ -124,6 +125,7 @@ class LiveCapture {
   void arm_idle_for_pipeline();
   void schedule_idle(Nanos delay);
   void schedule_flush();
+  void note_ports_free();
 
   boost::asio::io_context& io_;
   CaptureClock clock_;

@@ -191,8 +191,10 @@ void PcapngRecorder::record_chunk(std::size_t port, const Chunk& chunk) {
   // lost-data event flags the next byte read only when that byte is in the same file.
   if (!event_waits_for_byte_) maybe_rotate(chunk.t_end);
   event_waits_for_byte_ = false;
+  // A late read says so on its first record (a replay takes the mark back from it).
+  std::string comment = time_marks_comment(time_marks_of(chunk, chunk.t_end));
   if (chunk.errors.empty()) {
-    write(port, chunk.t_end, data_event, chunk.bytes, {});
+    write(port, chunk.t_end, data_event, chunk.bytes, comment);
     return;
   }
   std::size_t start = 0;
@@ -201,7 +203,8 @@ void PcapngRecorder::record_chunk(std::size_t port, const Chunk& chunk) {
     std::size_t end = start + 1;
     while (end < chunk.bytes.size() && chunk.errors[end] == flags) ++end;
     write(port, chunk.t_end, event_for(flags, data_event), chunk.bytes.subspan(start, end - start),
-          {});
+          comment);
+    comment = {};
     start = end;
   }
 }

@@ -8,7 +8,8 @@
 //    outbound, the second as DATA_RX_START, inbound), time = its read completion; where
 //    line errors mark bytes, the read is split into PARITY_ERROR / FRAMING_ERROR /
 //    SERIAL_BREAK_EVENT / SERIAL_OVERFLOW_EVENT records holding those bytes, all with the
-//    read's time (importers join records of equal time back into one chunk);
+//    read's time (importers join records of equal time back into one chunk); a read the
+//    host made late (Chunk::read_late) has kReadLateComment on its first record;
 //  * a port that failed: CAPTURE_DATA_LOST with the reason as comment, at the failure time;
 //  * the end of the capture: CAPTURE_COMPLETE at the stop time, so a replay decides what
 //    was still pending (a request waiting for its answer) exactly as the live run did.

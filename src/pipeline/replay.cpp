@@ -36,19 +36,25 @@ class Survey final : public CaptureConsumer {
     line_check.add(reads);
   }
   void on_frame(std::span<const std::uint8_t> /*adu*/, Nanos /*t_start*/,
-                std::uint64_t /*origin*/) override {}
+                std::uint64_t /*origin*/) override {
+    ++records;
+  }
   void on_noise(std::span<const std::uint8_t> /*bytes*/, Nanos /*t_start*/,
-                std::uint64_t /*origin*/) override {}
+                std::uint64_t /*origin*/) override {
+    ++records;
+  }
   void on_end(Nanos /*t*/) override {}
   void add(const Chunk& chunk) {
     ++chunks;
     estimator.add(chunk);
     line_check.add(chunk);
   }
+  [[nodiscard]] bool saw_bytes() const { return chunks > 0 || records > 0; }
 
   TimingEstimator estimator;
   LineCheck line_check;
   std::uint64_t chunks = 0;
+  std::uint64_t records = 0;  // frame and noise records the file holds as such
 };
 
 // Frames the first reads of a capture hold at some settings: what confirms inferred ones.
@@ -182,11 +188,19 @@ void add_whole_capture_findings(CaptureSurvey& result, const CaptureReader& read
   CaptureInfo& info = result.info;
   const Nanos precision = reader.timestamp_precision();
   const auto declared = reader.declared_settings();
-  info.per_byte_timing =
-      result.use_chunks && (result.per_byte_exact || survey.estimator.mostly_single_bytes());
+  info.has_bytes = survey.saw_bytes();
+  info.per_byte_timing = info.has_bytes && result.use_chunks &&
+                         (result.per_byte_exact || survey.estimator.mostly_single_bytes());
   for (auto& warning : reader.capture_warnings()) {
     // Not silent: what the file lacks shows as damaged frames, and the user must know why.
     if (options.show_warnings) print_warning_to_stderr(warning);
+    info.warnings.push_back(std::move(warning));
+  }
+  // An empty file, or one of comments only, is a capture of nothing; more often it is the
+  // wrong file, and a report of it must not read as a quiet bus.
+  if (!info.has_bytes) {
+    std::string warning = "the capture holds no bytes: nothing was decoded";
+    if (options.show_warnings) print_warning_to_stderr(fmt::format("{}: {}", info.source, warning));
     info.warnings.push_back(std::move(warning));
   }
   bool inferred = false;

@@ -70,6 +70,15 @@ void PcapExportSink::on_capture(const CaptureInfo& info) {
 void PcapExportSink::on_chunk(const Chunk& chunk) {
   if (!options_.raw || chunk.bytes.empty()) return;
   std::size_t start = 0;
+  // A read's time marks go with its first record, so a decode of the export frames it the
+  // same way (rtac_serial.hpp).
+  // RTAC records carry one time; a reader counts the bytes back from it. Where the source
+  // measured the first byte's start (logic analysers), the time is where its bytes end at
+  // the line rate, so the framer places every byte as measured.
+  const Nanos t = chunk.t_first_start != kUnknownTime
+                      ? chunk.t_first_start + static_cast<Nanos>(chunk.bytes.size()) * char_time_
+                      : chunk.t_end;
+  std::string comment = time_marks_comment(time_marks_of(chunk, t));
   while (start < chunk.bytes.size()) {
     const std::uint8_t errors = chunk.errors.empty() ? 0 : chunk.errors[start];
     std::size_t end = start + 1;
@@ -77,15 +86,12 @@ void PcapExportSink::on_chunk(const Chunk& chunk) {
       ++end;
     }
     RawRecord raw;
-    // RTAC records carry one time; a reader counts the bytes back from it. Where the
-    // source measured the first byte's start (logic analysers), the time is where its
-    // bytes end at the line rate, so the framer places every byte as measured.
-    raw.t = chunk.t_first_start != kUnknownTime
-                ? chunk.t_first_start + static_cast<Nanos>(chunk.bytes.size()) * char_time_
-                : chunk.t_end;
+    raw.t = t;
     raw.event = event_for(errors);
     raw.bytes.assign(chunk.bytes.begin() + static_cast<std::ptrdiff_t>(start),
                      chunk.bytes.begin() + static_cast<std::ptrdiff_t>(end));
+    raw.comment = comment;
+    comment = {};
     raw_queue_.push_back(std::move(raw));
     start = end;
   }
@@ -123,7 +129,9 @@ void PcapExportSink::write_raw(const RawRecord& raw) {
   if (!pcapng_) open(CaptureInfo{});
   const Nanos t = file_time(raw.t);
   build_rtac_record(t, raw.event, 0, raw.bytes, buffer_);
-  pcapng_->write_packet(raw_interface_, t, buffer_);
+  PcapngPacketMeta meta;
+  meta.comment = raw.comment;
+  pcapng_->write_packet(raw_interface_, t, buffer_, meta);
   ++counts_.raw_records;
 }
 

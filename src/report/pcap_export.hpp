@@ -69,6 +69,7 @@ class PcapExportSink final : public RecordSink {
     Nanos t = 0;
     RtacEvent event = RtacEvent::kDataRxStart;
     std::vector<std::uint8_t> bytes;
+    std::string comment;  // the read's time marks, on its first record
   };
   void open(const CaptureInfo& info);
   void write_raw_until(Nanos t);

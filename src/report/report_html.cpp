@@ -191,10 +191,14 @@ void summary(Out& o, const TrafficStats& stats) {
   put(o, "</div></section>");
 }
 
-void findings_section(Out& o, const std::vector<Finding>& findings) {
+void findings_section(Out& o, const std::vector<Finding>& findings, bool any_traffic) {
   put(o, "<section id=\"findings\"><h2>Findings</h2>");
   if (findings.empty()) {
-    put(o, "<p class=\"none\">Nothing in this capture points to a problem.</p>");
+    if (any_traffic) {
+      put(o, "<p class=\"none\">Nothing in this capture points to a problem.</p>");
+    } else {
+      put(o, "<p class=\"none\">None: the capture holds no traffic to judge.</p>");
+    }
   }
   for (const Finding& f : findings) {
     const std::string_view sev = severity_name(f.severity);
@@ -671,7 +675,7 @@ void write_report_html(OutputStream& out, const TrafficStats& stats,
   header(o, stats);
   put(o, "<main>");
   summary(o, stats);
-  findings_section(o, findings);
+  findings_section(o, findings, stats.totals().records > 0);
   timeline_chart(o, stats);
   utilisation_chart(o, stats);
   slave_table(o, stats);

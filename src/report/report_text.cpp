@@ -79,7 +79,11 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "");
 
   line(o, "FINDINGS");
-  if (findings.empty()) line(o, "  none: nothing in this capture points to a problem");
+  if (findings.empty() && t.records > 0) {
+    line(o, "  none: nothing in this capture points to a problem");
+  } else if (findings.empty()) {
+    line(o, "  none: the capture holds no traffic to judge");
+  }
   for (std::size_t i = 0; i < findings.size(); ++i) {
     const Finding& f = findings[i];
     line(o, "  {}. [{}] {}: {}", i + 1, severity_name(f.severity), f.key, f.summary);

@@ -5,6 +5,7 @@
 namespace rtu {
 
 std::string timing_note(const CaptureInfo& info) {
+  if (!info.has_bytes) return "no bytes in the capture: no timing was observed";
   const double res_ms = static_cast<double>(info.timing_resolution) / 1e6;
   const Nanos t15 = info.line.t1_5();
   const Nanos t35 = info.line.t3_5();

@@ -63,6 +63,8 @@ const SerialStatus& SerialSource::open() {
     throw;
   }
   decoder_.reset();
+  late_check_.restart(status_.resolution);
+  quiet_seen_at_ = kUnknownTime;
   return status_;
 }
 
@@ -189,7 +191,28 @@ void SerialSource::discard_input() {
   decoder_.reset();
 }
 
+void SerialSource::note_free_moment() {
+  if (port_.is_open()) note_waiting(pending_input() > 0);
+}
+
+void SerialSource::note_quiet_until(Nanos now) {
+  quiet_seen_at_ = std::max(quiet_seen_at_, now);
+}
+
+void SerialSource::note_waiting(bool input_pending) {
+  late_check_.waiting(input_pending);
+  if (!input_pending) note_quiet_until(clock_.now());
+}
+
 void SerialSource::read_next() {
+  // Asking the driver costs a system call per read; after a read handled at once, what
+  // came meanwhile has not waited long enough to matter.
+  if (late_check_.handled_quickly()) {
+    late_check_.waiting_after_quick_handling();
+    note_quiet_until(clock_.now());
+  } else {
+    note_waiting(pending_input() > 0);
+  }
   port_.async_read_some(asio::buffer(raw_), [this](const boost::system::error_code& error,
                                                    std::size_t n) { on_read(error, n); });
 }
@@ -219,6 +242,8 @@ void SerialSource::on_read(const boost::system::error_code& error, std::size_t n
     for (const auto e : errors_) any_error = any_error || e != kLineOk;
     Chunk chunk;
     chunk.t_end = t_end;
+    chunk.read_late = late_check_.read_came_late();
+    if (chunk.read_late) chunk.quiet_until = std::min(quiet_seen_at_, t_end);
     chunk.bytes = bytes_;
     if (any_error) chunk.errors = errors_;
     chunk.origin = bytes_read_;

@@ -24,6 +24,7 @@
 #include "core/chunk.hpp"
 #include "core/input_error.hpp"
 #include "serial/clock.hpp"
+#include "serial/late_read_check.hpp"
 #include "serial/line_settings.hpp"
 #include "serial/mark_decoder.hpp"
 #include "serial/port_tuning.hpp"
@@ -88,12 +89,23 @@ class SerialSource {
   [[nodiscard]] std::size_t pending_input();
   // Drops what the driver holds unread (bytes received at the settings before these).
   void discard_input();
+  // A moment the reading thread is free (a timer's handler ends): when no input is pending,
+  // the next read can have come late by no more than the thread's busy time from now on
+  // (late_read_check.hpp). Keeps other work done meanwhile out of that bound.
+  void note_free_moment();
+  // The line was quiet up to `now` (capture time): the live idle timer found no input
+  // pending then, and every read taken before that has been handled. A late read after it
+  // carries that moment (Chunk::quiet_until), so a replay decides there too.
+  void note_quiet_until(Nanos now);
+  // Reads that came later than the timing resolution allows for (Chunk::read_late).
+  [[nodiscard]] std::uint64_t late_reads() const { return late_check_.late_reads(); }
   [[nodiscard]] const SerialStatus& status() const { return status_; }
   [[nodiscard]] const SerialConfig& config() const { return config_; }
 
  private:
   void configure();
   void read_next();
+  void note_waiting(bool input_pending);  // a moment the thread waits for bytes
   void on_read(const boost::system::error_code& error, std::size_t n);
   void refine_with_counters(std::size_t first_new);
 
@@ -109,6 +121,9 @@ class SerialSource {
   std::vector<std::uint8_t> errors_;
   std::optional<LineCounters> counters_;
   std::uint64_t bytes_read_ = 0;
+  LateReadCheck late_check_{kHostReadResolution};
+  // The latest moment the port was seen empty, on the capture clock.
+  Nanos quiet_seen_at_ = kUnknownTime;
 };
 
 }  // namespace rtu

@@ -65,6 +65,7 @@ struct VirtualBus::Endpoint {
   std::vector<std::uint8_t> usb_buffer;
   Nanos usb_deadline = 0;
   std::vector<std::uint8_t> out;  // bytes to write in this round
+  Nanos out_oldest_end = 0;       // wire end of out's first byte
   // Emulated UARTs only.
   std::optional<UartReceiver> receiver;
   bool marks = false;  // the program asked for PARMRK (which the bus cleared)
@@ -343,6 +344,7 @@ void VirtualBus::deliver_due(Nanos now) {
         ep.usb_buffer.push_back(byte);
         if (ep.usb_buffer.size() >= options_.usb_packet) flush_usb(j, now, true);
       } else {
+        if (ep.out.empty()) ep.out_oldest_end = p.t_end;
         ep.out.push_back(byte);
       }
     }
@@ -355,10 +357,21 @@ void VirtualBus::deliver_due(Nanos now) {
     Endpoint& ep = endpoints_[j];
     if (ep.usb) flush_usb(j, now, false);
     if (!ep.out.empty()) {
+      log_late_delivery(j, ep.out_oldest_end, now);
       write_to(j, ep.out.data(), ep.out.size());
       ep.out.clear();
     }
   }
+}
+
+// The bus's own thread woke late (a loaded machine): the endpoint sees a pause the wire
+// never had. Logged, so a test tells the bus's lateness from the reader's.
+void VirtualBus::log_late_delivery(std::size_t to, Nanos wire_end, Nanos now) {
+  if (log_file_ == nullptr || now - wire_end < kLateDeliveryLogged) return;
+  fmt::print(log_file_, "# late to ep{}: byte ending {}.{:09} delivered at {}.{:09}\n", to,
+             wire_end / kNanosPerSecond, wire_end % kNanosPerSecond, now / kNanosPerSecond,
+             now % kNanosPerSecond);
+  std::fflush(log_file_);
 }
 
 std::uint8_t VirtualBus::maybe_flip(std::uint8_t byte, std::size_t to) {

@@ -18,8 +18,9 @@
 // Without these options the bus relays bytes exactly as it always has.
 //
 // The bus log records every byte written, by whom and when it was on the wire (monotonic
-// ns), one entry per burst; faults are logged separately. It is the ground truth tests
-// compare a capture with.
+// ns), one entry per burst; faults and late deliveries (the bus's thread woke late, so an
+// endpoint got bytes later than the wire had them) are logged separately. It is the ground truth
+// tests compare a capture with.
 #include <atomic>
 #include <cstdint>
 #include <deque>
@@ -126,6 +127,9 @@ class VirtualBus {
   [[nodiscard]] Picos to_picos(Nanos t) const { return (t - origin_) * 1000; }
   [[nodiscard]] Nanos to_nanos(Picos t) const { return origin_ + (t + 999) / 1000; }
   void log_entry(const BusLogEntry& entry);
+  void log_late_delivery(std::size_t to, Nanos wire_end, Nanos now);
+  // Deliveries later than this after the wire end of their first byte are logged.
+  static constexpr Nanos kLateDeliveryLogged = 250 * kNanosPerMicro;
 
   VirtualBusOptions options_;
   std::vector<Endpoint> endpoints_;

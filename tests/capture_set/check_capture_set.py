@@ -23,9 +23,8 @@ import tempfile
 # tools/pylib (check_support), found from this file: any working directory, no install.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
 from check_support import fail  # noqa: E402  (after the path line)
+from pcapng_reads import EPB, IDB, LINKTYPE_RTAC_SERIAL, SHB, blocks  # noqa: E402
 
-SHB, IDB, EPB = 0x0A0D0D0A, 1, 6
-LINKTYPE_RTAC_SERIAL = 250
 PARTS = 4
 
 
@@ -36,21 +35,11 @@ def run(cmd, expect=0):
     return result
 
 
-def blocks(data, order):
-    """(type, whole block) of every block."""
-    at = 0
-    while at < len(data):
-        kind, length = struct.unpack_from(order + "II", data, at)
-        yield kind, data[at:at + length]
-        at += length
-
-
 def raw_reads_only(data):
     """The section header, the raw-read interface (as interface 0) and its packets."""
-    order = "<" if data[8:12] == b"\x4d\x3c\x2b\x1a" else ">"
     header, interface, packets = None, None, []
     interfaces = []
-    for kind, block in blocks(data, order):
+    for kind, block, order in blocks(data):
         if kind == SHB:
             header = block
         elif kind == IDB:

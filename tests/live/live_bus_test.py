@@ -21,11 +21,14 @@ import subprocess
 import sys
 import time
 
-from bus_helpers import fail, stop_all
+from bus_helpers import fail, stop_all  # also puts tools/pylib on the path
+from pcapng_reads import read_times
+from rtu_timing import char_seconds, t1_5_seconds, t3_5_seconds
 
 SLAVE = 17
 ABSENT = 99
 BAUD = 19200
+SNIFFER = 2  # the endpoint rtuscope reads
 
 
 def read_lines(proc, count, what, deadline=20.0):
@@ -78,9 +81,25 @@ def bus_bursts(log_path):
     return [tuple(b) for b in bursts]
 
 
-def t3_5_seconds(baud):
-    """The spec's t3.5: 3.5 characters of 11 bits, fixed at 1.75 ms above 19200 baud."""
-    return 1.75e-3 if baud > 19200 else 3.5 * 11 / baud
+def late_deliveries(log_path, endpoint):
+    """Where the bus's own thread woke late and handed `endpoint` bytes later than the wire
+    had them, as (wire end of the first byte handed over, lateness) in seconds: there the
+    endpoint saw a pause the wire never had, which no reader can tell from a real one."""
+    late = []
+    prefix = f"# late to ep{endpoint}: byte ending "
+    with open(log_path) as f:
+        for line in f:
+            if line.startswith(prefix):
+                fields = line[len(prefix):].split()
+                wire_end, delivered = float(fields[0]), float(fields[3])
+                late.append((wire_end, delivered - wire_end))
+    return late
+
+
+def bus_lateness_within(late, start, end):
+    """The most the bus delivered late a byte whose wire end lies in [start, end]."""
+    return max((lateness for wire_end, lateness in late if start < wire_end <= end + 1e-9),
+               default=0.0)
 
 
 # How late a loaded test machine (two cores, sanitizers) may read a byte beyond the 1 ms
@@ -91,25 +110,65 @@ def t3_5_seconds(baud):
 HOST_LATENESS = 5e-3
 
 
-def check_timing_flags(bursts, frames, baud):
+def sniffer_pauses(reads, byte_count, char_time):
+    """For each byte the sniffer read, the pause its port showed before it, in seconds, as
+    rtuscope measures it (only where a read begins; None inside a read, at the first read,
+    and next to a read marked late, whose time shows no pause)."""
+    pauses = []
+    prev_t = prev_late = None
+    for t, data, late in reads:
+        t /= 1e9
+        shown = prev_t is not None and not late and not prev_late
+        pauses.append(t - prev_t - len(data) * char_time if shown else None)
+        pauses.extend([None] * (len(data) - 1))
+        prev_t, prev_late = t, late
+    return pauses[:byte_count]
+
+
+# Pauses inside a frame that the sniffer's port showed although the wire had none: its
+# host delivered a byte late, where rtuscope cannot see it (the kernel's own delivery, or the
+# bus's thread; the reading thread's lateness it measures and marks). A t1.5 flag there is
+# the port's truth, not the wire's; tolerated in a few frames of a run on a loaded machine.
+UNSEEN_LATENESS_FRAMES = 3
+
+
+def check_timing_flags(bursts, frames, baud, pauses, late):
     """Every timing flag is true on the wire: a t3.5 flag only where the bus was silent
     for less than t3.5 before the frame (give or take the host's lateness), and no t1.5 flag
-    (a burst has no pause inside). Returns how many t3.5 flags there were and how many frames
-    broke t3.5 on the wire."""
+    (a burst has no pause inside) unless the sniffer's port showed one (`pauses`, from
+    sniffer_pauses()), which rtuscope could not tell from a real one, in a few frames at
+    most. `late`: where the bus delivered late (late_deliveries()), said with the flag.
+    Returns how many t3.5 flags there were and how many frames broke t3.5 on the wire."""
     t3_5 = t3_5_seconds(baud)
-    flagged = violations = 0
-    for i, ((_, _, start, _), frame) in enumerate(zip(bursts, frames)):
+    t1_5 = t1_5_seconds(baud)
+    resolution = 1e-3  # what rtuscope takes a pseudo-terminal's reads to be good for
+    flagged = violations = unseen = 0
+    first_byte = 0
+    for i, ((_, hexbytes, start, end), frame) in enumerate(zip(bursts, frames)):
+        size = len(hexbytes) // 2
+        inner = [p for p in pauses[first_byte + 1:first_byte + size] if p is not None]
+        first_byte += size
         silence = start - bursts[i - 1][3] if i > 0 else None
         violations += silence is not None and silence < t3_5
         issues = frame.get("issues") or []
         if "t1.5" in issues:
-            fail(f"t1.5 flag on a frame the bus sent without a pause: {frame}")
+            shown = max(inner, default=None)
+            if shown is None or shown - resolution <= t1_5:
+                fail(f"t1.5 flag on a frame the bus sent without a pause, and the sniffer's "
+                     f"reads showed none either (longest {shown}): {frame}")
+            unseen += 1
+            print(f"t1.5 flag where the sniffer's port showed a {shown * 1e3:.3f} ms pause the "
+                  f"wire did not have (the bus delivered it "
+                  f"{bus_lateness_within(late, start, end) * 1e3:.3f} ms late): {frame['hex']}")
         if "t3.5" in issues:
             flagged += 1
             if silence is None or silence >= t3_5 + HOST_LATENESS:
                 shown = "none before it" if silence is None else f"{silence * 1e3:.3f} ms"
                 fail(f"t3.5 flag where the bus was silent for {shown} "
                      f"(t3.5 is {t3_5 * 1e3:.3f} ms): {frame}")
+    if unseen > UNSEEN_LATENESS_FRAMES:
+        fail(f"{unseen} frames flagged t1.5 for pauses only the sniffer's port had: more than "
+             f"a loaded host explains")
     return flagged, violations
 
 
@@ -242,13 +301,29 @@ def main():
     # bytes per read on average, far below this bound. Where a moment of the machine batched
     # more than that, the capture is taken again (at most three times): the reads are what
     # this case is about, not what it checks.
+    # The bus's own thread can wake late too (a loaded machine): it then hands the sniffer
+    # bytes a frame's length after the wire had them, and the sniffer sees a silence the
+    # wire never had. One long enough for rtuscope to end a frame in (t3.5 plus the 20 ms it
+    # allows for an adapter's delivery) is a true silence on the sniffer's port, no fault of
+    # rtuscope's, and not what this test is about: the capture is taken again (three times
+    # at most), as the bus log says why.
     per_byte_case = args.wire_rate and not usb
-    attempts = 3 if per_byte_case else 1
+    attempts = 3
+    ends_frames = t3_5_seconds(baud) + 20e-3
     for attempt in range(1, attempts + 1):
         for stale in (log, pcapng, live_out, report_path):
             if os.path.exists(stale):
                 os.remove(stale)
         err = run_session()
+        stalls = [lateness for _, lateness in late_deliveries(log, SNIFFER)
+                  if lateness >= ends_frames]
+        if stalls:
+            message = (f"the bus delivered to the sniffer up to {max(stalls) * 1e3:.1f} ms "
+                       f"late, a silence its port had and the wire had not")
+            if attempt == attempts:
+                fail(f"{message}, in {attempts} captures")
+            print(f"capture {attempt}: {message}; taken again")
+            continue
         if not per_byte_case:
             break
         sizes = re.search(r"(\d+) bytes in (\d+) reads", err)
@@ -319,7 +394,9 @@ def main():
         fail(f"report has no latency for slave {SLAVE}: {slave['latency_ms']}")
 
     # 5. Timing flags are evidence, never invented.
-    flagged, violations = check_timing_flags(bursts, frames, baud)
+    pauses = sniffer_pauses(read_times(pcapng), len(bus_bytes) // 2, char_seconds(baud))
+    flagged, violations = check_timing_flags(bursts, frames, baud, pauses,
+                                             late_deliveries(log, SNIFFER))
     print(f"t3.5: {flagged} flagged, none on a long silence; {violations} frames broke it "
           f"on the wire")
 

@@ -65,6 +65,7 @@ struct CopiedChunk {
   std::vector<std::uint8_t> bytes;
   std::vector<std::uint8_t> errors;
   std::uint64_t origin = 0;
+  bool time_clamped = false;
 };
 
 inline std::vector<CopiedChunk> read_all(CaptureReader& reader) {
@@ -75,7 +76,7 @@ inline std::vector<CopiedChunk> read_all(CaptureReader& reader) {
     out.push_back({chunk.t_end, chunk.t_first_start,
                    std::vector<std::uint8_t>(chunk.bytes.begin(), chunk.bytes.end()),
                    std::vector<std::uint8_t>(chunk.errors.begin(), chunk.errors.end()),
-                   chunk.origin});
+                   chunk.origin, chunk.time_clamped});
   }
   return out;
 }

@@ -260,5 +260,43 @@ TEST(FramerResync, ThreeByteFragmentOfTheAwaitedAnswerIsATruncatedFrame) {
   EXPECT_TRUE(records[1].issues.has(IssueId::kTruncated));
 }
 
+// A reader that fell behind (a busy or starved host) takes many queued bytes in one read,
+// long after the quiet that decides a frame would have passed since the byte before them,
+// had the line been quiet. It was not: the read's own bytes filled that time. At 9600 baud
+// a 205-byte answer whose last 142 bytes come in one such read is still one frame.
+TEST(Framer, AReadOfLongQueuedBytesGoesOnWithTheFrameBeforeIt) {
+  LineSettings line;
+  line.baud = 9600;
+  BusBuilder bus(line);
+  const std::vector<std::uint8_t> request = with_crc({0x11, 0x03, 0x00, 0x00, 0x00, 0x64});
+  std::vector<std::uint8_t> body = {0x11, 0x03, 200};
+  for (int i = 0; i < 200; ++i) body.push_back(static_cast<std::uint8_t>(i * 7));
+  std::vector<std::uint8_t> response = body;
+  const std::uint16_t crc = crc16(response);
+  response.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+  response.push_back(static_cast<std::uint8_t>(crc >> 8U));
+  ASSERT_EQ(crc16(response), 0);
+  bus.add(request, 0).add(response, 2 * kMs);
+  std::vector<Chunk> reads = bus.per_byte();
+  const std::size_t held = 142;
+  Chunk late = reads[reads.size() - held];
+  late.bytes = {late.bytes.data(), held};
+  late.t_end = reads.back().t_end;
+  reads.resize(reads.size() - held);
+  reads.push_back(late);
+  // Unmarked; marked late with no moment the port was seen empty; and marked with the one
+  // a live run has (when the read before was issued).
+  const Nanos issued = reads[reads.size() - 2].t_end;
+  for (const auto& [marked, quiet_until] :
+       {std::pair{false, kUnknownTime}, std::pair{true, kUnknownTime}, std::pair{true, issued}}) {
+    reads.back().read_late = marked;
+    reads.back().quiet_until = quiet_until;
+    const auto records = run(reads, bus.line(), kMs);
+    ASSERT_EQ(records.size(), 2U) << "marked " << marked << " quiet until " << quiet_until;
+    EXPECT_EQ(bytes_of(records[1]), response);
+    EXPECT_TRUE(records[1].crc_ok);
+  }
+}
+
 }  // namespace
 }  // namespace rtu

@@ -103,6 +103,9 @@ TEST(PcapBackwardTime, RawReadsAreClampedAndReported) {
   ASSERT_EQ(chunks.size(), 3U);
   EXPECT_EQ(chunks[1].t_end, kStart + 10'000 * kMs) << "clamped to the read before";
   EXPECT_EQ(chunks[2].t_end, kStart + 11'000 * kMs);
+  EXPECT_FALSE(chunks[0].time_clamped);
+  EXPECT_TRUE(chunks[1].time_clamped);
+  EXPECT_FALSE(chunks[2].time_clamped);
 }
 
 TEST(PcapBackwardTime, ManyAreCountedAfterTheFirstFew) {

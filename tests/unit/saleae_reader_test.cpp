@@ -124,6 +124,8 @@ TEST(SaleaeReader, BackwardStartIsClampedKeepingTheDuration) {
   ASSERT_EQ(chunks.size(), 2U);
   EXPECT_EQ(chunks[1].t_first_start, 2'000'000);
   EXPECT_EQ(chunks[1].t_end, 3'000'000);
+  EXPECT_FALSE(chunks[0].time_clamped);
+  EXPECT_TRUE(chunks[1].time_clamped);
   ASSERT_EQ(warnings.size(), 1U);
   EXPECT_EQ(warnings[0],
             path + ":3: timestamp goes backwards (0.001 after 0.002 on line 2); using 0.002");

@@ -142,8 +142,9 @@ TEST(SerialSource, ChunkTimeIsTheClockReadAtReadCompletion) {
   pty.write({0x11, 0x22});
   run_until(io, [&] { return rx.bytes.size() >= 2; });
   ASSERT_EQ(rx.times.size(), 1U);
-  // Anchor at mono 5.001 s; the read is stamped with the next reading, 1 ms later.
-  EXPECT_EQ(rx.times[0], SteppingClock::kWallOffset + 5 * kNanosPerSecond + 2 * kNanosPerMilli);
+  // Anchor at mono 5.001 s; the moment the read was issued with no input pending is the
+  // next reading (a late read would carry it), and the read is stamped with the one after.
+  EXPECT_EQ(rx.times[0], SteppingClock::kWallOffset + 5 * kNanosPerSecond + 3 * kNanosPerMilli);
 }
 
 TEST(SerialSource, NonStandardBaudRateIsSetExactly) {

@@ -168,6 +168,10 @@ TEST(TextHexReader, BackwardTimeIsClampedAndReported) {
   EXPECT_EQ(chunks[1].t_end, 1'500'000'000);
   EXPECT_EQ(chunks[1].bytes, (Bytes{0x02}));  // the bytes are kept
   EXPECT_EQ(chunks[2].t_end, 1'600'000'000);
+  // Only the clamped read's time is marked as not the input's.
+  EXPECT_FALSE(chunks[0].time_clamped);
+  EXPECT_TRUE(chunks[1].time_clamped);
+  EXPECT_FALSE(chunks[2].time_clamped);
   ASSERT_EQ(warnings.size(), 1U);
   EXPECT_EQ(warnings[0],
             path + ":2: timestamp goes backwards (1.2 after 1.5 on line 1); using 1.5");

@@ -23,6 +23,7 @@ import sys
 # tools/pylib (modbus_crc), found from this file: any working directory, no install.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
 from modbus_crc import CRC_INIT, crc16  # noqa: E402
+from rtu_timing import char_seconds, t3_5_seconds  # noqa: E402
 
 MAX_ADU = 256
 
@@ -120,8 +121,8 @@ def fits(buf, i, length):
 
 
 def decode(baud, bits, buf, ends):
-    ct = bits / baud
-    t3_5 = 1.75e-3 if baud > 19200 else 3.5 * ct
+    ct = char_seconds(baud, bits)
+    t3_5 = t3_5_seconds(baud, bits)
     records = []
     noise_from = None
 

@@ -39,7 +39,12 @@ Python 3 standard library only.
 """
 import argparse
 import json
+import os
 import sys
+
+# tools/pylib (rtu_timing), found from this file: any working directory, no install.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../pylib"))
+from rtu_timing import t1_5_seconds, t3_5_seconds  # noqa: E402  (after the path line)
 
 DAMAGE = {"crc", "truncated"}
 UNPAIRABLE = {"crc", "truncated", "wrong_slave"}
@@ -78,9 +83,7 @@ def line_times(path):
     with open(path, encoding="utf-8") as f:
         head = json.loads(f.readline())
     baud, bits = head["baud"], head["bits_per_char"]
-    if baud > 19200:
-        return 750e-6, 1750e-6
-    return 1.5 * bits / baud, 3.5 * bits / baud
+    return t1_5_seconds(baud, bits), t3_5_seconds(baud, bits)
 
 
 # Times in the truth are exact to the nanosecond; a decoder's are rounded to its own output.

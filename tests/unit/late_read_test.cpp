@@ -139,7 +139,11 @@ TEST(LateRead, AByteThatArrivedWhileTheHandlerWasBusyIsReadLate) {
   // when the second was, with its byte waiting.
   ASSERT_NE(reads[1].quiet_until, kUnknownTime);
   EXPECT_LE(reads[1].quiet_until, reads[0].t_end);
-  EXPECT_EQ(reads[0].quiet_until, kUnknownTime);  // not late: nothing to carry
+  // The first read is late too if a loaded host handled it long after its byte came; a read
+  // on time carries no quiet moment.
+  if (!reads[0].read_late) {
+    EXPECT_EQ(reads[0].quiet_until, kUnknownTime);
+  }
 }
 
 // The counterpart: the same busy handler, but the byte came after it, while the thread

@@ -126,15 +126,14 @@ bool PcapImporter::fetch() {
   if (ended_) return false;
   if (!reader_->next(packet_)) {
     ended_ = true;
+    // A recording of a quiet line has interfaces but no packets: its line is still declared.
+    if (described_.empty()) take_declarations(reader_->first_interface_description());
     return false;
   }
   const auto interface = std::make_pair(packet_.section, packet_.interface_id);
   if (std::find(described_.begin(), described_.end(), interface) == described_.end()) {
     described_.push_back(interface);
-    const std::string_view description = packet_.interface_description;
-    if (!declared_) declared_ = parse_line_description(description);
-    if (!resolution_) resolution_ = parse_resolution_description(description);
-    if (!timeout_) timeout_ = parse_timeout_description(description);
+    take_declarations(packet_.interface_description);
   }
   if (packet_.original_length > packet_.data.size()) {
     if (cut_.count == 0) {
@@ -146,6 +145,12 @@ bool PcapImporter::fetch() {
   }
   have_packet_ = true;
   return true;
+}
+
+void PcapImporter::take_declarations(std::string_view interface_description) {
+  if (!declared_) declared_ = parse_line_description(interface_description);
+  if (!resolution_) resolution_ = parse_resolution_description(interface_description);
+  if (!timeout_) timeout_ = parse_timeout_description(interface_description);
 }
 
 // Receivers are numbered in the order their first read appears in the section, so a

@@ -64,7 +64,8 @@ class PcapImporter {
 
   bool next(PcapItem& out);
   // Line settings from an interface description such as "RS-485 9600 8E1" (rtuscope's
-  // exports write them there); known once the first item was read.
+  // exports write them there); known once the first item was read, or for a file without
+  // packets once next() returned false.
   [[nodiscard]] std::optional<LineSettings> declared_settings() const { return declared_; }
   // Timing resolution of the capture the frames were decoded from, from an interface
   // description holding "timing resolution <ms> ms" (rtuscope's exports write it).
@@ -80,6 +81,7 @@ class PcapImporter {
 
  private:
   bool fetch();  // next packet into packet_; false at the end
+  void take_declarations(std::string_view interface_description);
   [[noreturn]] void fail(std::string message);
   std::uint8_t port_of(std::uint32_t section, std::uint32_t interface_id);
   std::unique_ptr<PcapReader> reader_;

@@ -127,6 +127,8 @@ struct PcapReader::Impl {
   // pcapng
   std::int64_t section = -1;
   std::vector<Interface> interfaces;
+  std::string first_accepted_description;
+  bool accepted_seen = false;
 
   // The file is read in large pieces into `buffer`; a block is parsed where it lies there.
   // buffer[head, tail) holds bytes read from the file and not yet passed; the current block
@@ -187,6 +189,10 @@ struct PcapReader::Impl {
   // for all its packets.
   void add_interface(Interface iface) {
     iface.accepted = accepts(iface.link_type);
+    if (iface.accepted && !accepted_seen) {
+      accepted_seen = true;
+      first_accepted_description = iface.description;
+    }
     interfaces.push_back(std::move(iface));
   }
 
@@ -565,6 +571,9 @@ CaptureFileFormat PcapReader::format() const {
 }
 const std::string& PcapReader::name() const {
   return impl_->name;
+}
+const std::string& PcapReader::first_interface_description() const {
+  return impl_->first_accepted_description;
 }
 std::uint64_t PcapReader::bytes_read() const {
   return impl_->offset;

@@ -56,6 +56,9 @@ class PcapReader {
 
   [[nodiscard]] CaptureFileFormat format() const;
   [[nodiscard]] const std::string& name() const;
+  // The description of the first interface of an accepted link type read so far, empty if
+  // none: what a file without packets still says about its line.
+  [[nodiscard]] const std::string& first_interface_description() const;
   // Bytes consumed so far (for progress), and the file's size (0 when read from a stream).
   [[nodiscard]] std::uint64_t bytes_read() const;
   [[nodiscard]] std::uint64_t size() const;

@@ -7,11 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "capture/byte_output.hpp"
 #include "capture/pcap_format.hpp"
 #include "capture/pcapng_writer.hpp"
 #include "capture/rtac_serial.hpp"
 #include "capture/upper_pdu.hpp"
 #include "core/input_error.hpp"
+#include "pipeline/pcapng_recorder.hpp"
+#include "pipeline/replay.hpp"
 #include "report/pcap_export.hpp"
 
 namespace rtu {
@@ -41,6 +44,77 @@ struct TempFile {
                                ("rtuscope_import_" + std::to_string(::getpid()) + ".pcapng");
   ~TempFile() { std::filesystem::remove(path); }
 };
+
+// What a decode of a file was started with.
+struct CaptureInfoSink final : RecordSink {
+  void on_capture(const CaptureInfo& info) override { captured = info; }
+  void on_record(Record& record) override { (void)record; }
+  CaptureInfo captured;
+};
+
+LineSettings line_19200_8n2() {
+  LineSettings line;
+  line.baud = 19200;
+  line.parity = Parity::kNone;
+  line.stop_bits = 2;
+  return line;
+}
+
+// A file of no bytes that declares 19200 8N2 and a 2 ms resolution: its decode must name
+// them, not assume the Modbus default as for a file that says nothing.
+void expect_line_declared(const std::string& path) {
+  PcapImporter importer{CaptureFile(path)};
+  PcapItem item;
+  while (importer.next(item)) {
+    EXPECT_EQ(item.kind, PcapItem::Kind::kEnd);
+  }
+  ASSERT_TRUE(importer.declared_settings());
+  EXPECT_EQ(importer.declared_settings()->baud, 19200U);
+  EXPECT_EQ(importer.declared_settings()->parity, Parity::kNone);
+  EXPECT_EQ(importer.declared_resolution(), 2 * kNanosPerMilli);
+
+  CaptureInfoSink sink;
+  ReplayOptions options;
+  options.show_warnings = false;
+  replay_capture(path, options, sink);
+  EXPECT_EQ(sink.captured.line.baud, 19200U);
+  EXPECT_EQ(sink.captured.line.stop_bits, 2);
+  EXPECT_EQ(sink.captured.timing_resolution, 2 * kNanosPerMilli);
+}
+
+// `export --raw` of a capture without bytes writes its interfaces and no packet at all.
+TEST(PcapImport, AnExportWithoutPacketsStillDeclaresItsLine) {
+  TempFile file;
+  {
+    PcapExportOptions options;
+    options.raw = true;
+    PcapExportSink sink(std::make_unique<FileOutput>(file.path.string()), options);
+    CaptureInfo info;
+    info.line = line_19200_8n2();
+    info.timing_resolution = 2 * kNanosPerMilli;
+    sink.on_capture(info);
+    sink.on_finish();
+  }
+  expect_line_declared(file.path.string());
+}
+
+// A live recording of a line that stayed quiet: its interface and the end of the capture.
+TEST(PcapImport, ARecordingOfAQuietLineDeclaresItsLineAndTimeout) {
+  TempFile file;
+  {
+    PcapngRecorder recorder(file.path.string());
+    SerialStatus status;
+    status.resolution = 2 * kNanosPerMilli;
+    recorder.add_port(0, "/dev/ttyS0", line_19200_8n2(), status, 700 * kNanosPerMilli);
+    recorder.on_end(1'700'000'000 * kNanosPerSecond);
+  }
+  expect_line_declared(file.path.string());
+  PcapImporter importer{CaptureFile(file.path.string())};
+  PcapItem item;
+  while (importer.next(item)) {
+  }
+  EXPECT_EQ(importer.declared_timeout(), 700 * kNanosPerMilli);
+}
 
 TEST(PcapImport, RawRecordsWithOneTimeAreOneChunkAndEventsFlagBytes) {
   TempFile file;

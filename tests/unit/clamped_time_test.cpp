@@ -1,7 +1,6 @@
 // A read whose time went backwards in the input, and which the reader clamped to the time
 // before, shows no silence: the clamped time says only that the read came after the one
 // before. The frame it starts gets no gap and no t3.5, on every decoding path.
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -12,6 +11,7 @@
 #include "capture_test_files.hpp"
 #include "core/issue.hpp"
 #include "replayed_frames.hpp"
+#include "text_capture_lines.hpp"
 
 namespace rtu {
 namespace {
@@ -29,9 +29,7 @@ const std::vector<std::uint8_t> kResponse = {0x01, 0x03, 0x02, 0x00, 0x2A, 0x39,
 // `first_response_t` (the rest follow it a character apart).
 std::string per_byte_capture(const TempDir& dir, Nanos first_response_t) {
   std::string text = "# baud=19200 parity=E stop=1\n";
-  const auto line = [&](Nanos t, std::uint8_t byte) {
-    text += fmt::format("{}.{:09} {:02x}\n", t / kNanosPerSecond, t % kNanosPerSecond, byte);
-  };
+  const auto line = [&](Nanos t, std::uint8_t byte) { text += test::text_hex_line(t, {&byte, 1}); };
   Nanos t = 10 * kNanosPerMilli;
   for (const std::uint8_t byte : kRequest) line(t += kChar, byte);
   t = first_response_t;

@@ -20,6 +20,7 @@
 #include "core/crc16.hpp"
 #include "pipeline/replay.hpp"
 #include "report/pcap_export.hpp"
+#include "text_capture_lines.hpp"
 
 namespace rtu {
 namespace {
@@ -117,24 +118,11 @@ void expect_every_byte_once(const std::vector<Record>& records, const Bytes& inp
   EXPECT_EQ(output, input);
 }
 
-std::string hex_of(const Bytes& bytes) {
-  std::string out;
-  for (const auto b : bytes) out += fmt::format(" {:02X}", b);
-  return out;
-}
-
 // 1700000000.010000000 01 03 ...; the last byte's line error cannot be written in text.
 std::string text_capture(const std::vector<Read>& reads) {
   std::string out = "# baud=9600 parity=E stop=1\n";
-  for (const auto& read : reads) {
-    out += fmt::format("{}.{:09}{}\n", read.t_end / kNanosPerSecond, read.t_end % kNanosPerSecond,
-                       hex_of(read.bytes));
-  }
+  for (const auto& read : reads) out += test::text_hex_line(read.t_end, read.bytes);
   return out;
-}
-
-std::string seconds(Nanos t) {
-  return fmt::format("{}.{:09}", t / kNanosPerSecond, t % kNanosPerSecond);
 }
 
 // One row per byte, its start counted back from the end of the read.
@@ -148,11 +136,11 @@ std::string saleae_capture(const std::vector<Read>& reads, bool data_table) {
       const Nanos start = read.t_end - static_cast<Nanos>(n - i) * char_time;
       const bool parity = i + 1 == n && read.last_byte_errors == kParityError;
       if (data_table) {
-        out += fmt::format("\"Async 1\",\"data\",{},{},0x{:02X},{}\n", seconds(start),
-                           seconds(char_time), read.bytes[i], parity ? "parity" : "");
+        out += fmt::format("\"Async 1\",\"data\",{},{},0x{:02X},{}\n", test::decimal_seconds(start),
+                           test::decimal_seconds(char_time), read.bytes[i], parity ? "parity" : "");
       } else {
-        out +=
-            fmt::format("{},0x{:02X},{},\n", seconds(start), read.bytes[i], parity ? "Error" : "");
+        out += fmt::format("{},0x{:02X},{},\n", test::decimal_seconds(start), read.bytes[i],
+                           parity ? "Error" : "");
       }
     }
   }

@@ -65,7 +65,15 @@ void LateReadCheck::waiting(bool input_pending) {
 
 void LateReadCheck::waiting_after_quick_handling() {
   if (!run_delay_seen_) run_delay_seen_ = run_delay_.now();  // the first time only
-  take_moment();
+  if (!cpu_at_completion_) {
+    take_moment();
+    return;
+  }
+  // The CPU time the completion just before read saves reading it again (a system call,
+  // not served by the vDSO, at nearly every read of a busy line): the quick handling since
+  // then counts as busy too, so the bound grows by at most kQuickHandling, never shrinks.
+  waited_at_ = read_clock(CLOCK_MONOTONIC);
+  cpu_at_waiting_ = *cpu_at_completion_;
 }
 
 void LateReadCheck::take_moment() {
@@ -80,6 +88,7 @@ bool LateReadCheck::handled_quickly() const {
 bool LateReadCheck::read_came_late() {
   const Nanos now = read_clock(CLOCK_MONOTONIC);
   completed_at_ = now;
+  cpu_at_completion_.reset();
   // The moment stays until a later one is known: no input was pending then, neither for
   // this read nor for any after it.
   if (!waited_at_ || now - *waited_at_ <= allowed_) return false;
@@ -88,7 +97,8 @@ bool LateReadCheck::read_came_late() {
     run_delay_seen_ = run_delay;
     return false;  // the kernel does not tell: the read is taken as it comes, as before
   }
-  const Nanos busy = (thread_cpu_time() - cpu_at_waiting_) + (*run_delay - *run_delay_seen_);
+  cpu_at_completion_ = thread_cpu_time();
+  const Nanos busy = (*cpu_at_completion_ - cpu_at_waiting_) + (*run_delay - *run_delay_seen_);
   run_delay_seen_ = run_delay;
   const bool late = busy > allowed_;
   if (late) ++late_reads_;
@@ -99,6 +109,7 @@ void LateReadCheck::restart(Nanos allowed) {
   allowed_ = allowed;
   waited_at_.reset();
   completed_at_.reset();
+  cpu_at_completion_.reset();
 }
 
 }  // namespace rtu

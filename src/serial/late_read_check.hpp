@@ -83,6 +83,8 @@ class LateReadCheck {
   std::optional<Nanos> completed_at_;    // monotonic time of the last read's completion
   Nanos cpu_at_waiting_ = 0;             // the thread's CPU time then
   std::optional<Nanos> run_delay_seen_;  // at the last completion that asked
+  // The thread's CPU time at the last completion, where that completion read it.
+  std::optional<Nanos> cpu_at_completion_;
   Nanos allowed_;
   std::uint64_t late_reads_ = 0;
 };

@@ -6,6 +6,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <boost/asio/post.hpp>
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -87,10 +88,17 @@ class Pty {
   std::string path_;
 };
 
-// Reads two one-byte reads through a real SerialSource: the handler of the first spins for
-// 5 ms, and the second byte is written before that (`second_while_busy`) or after it.
-// Returns the two reads (their bytes left out).
-std::vector<Chunk> two_reads(bool second_while_busy) {
+// Where the reading thread is busy after the first read.
+enum class BusyWhere : std::uint8_t {
+  kInTheReadHandler,  // the read's handler itself spins
+  kInALaterHandler,   // the read's handler returns at once (a quick handling); another spins
+};
+
+// Reads two one-byte reads through a real SerialSource: after the first, the thread spins
+// for 5 ms (`where`), and the second byte is written before that (`second_while_busy`) or
+// after it. Returns the two reads (their bytes left out).
+std::vector<Chunk> two_reads(bool second_while_busy,
+                             BusyWhere where = BusyWhere::kInTheReadHandler) {
   Pty pty;
   SystemClock clock;
   CaptureClock capture_clock(clock);
@@ -105,17 +113,28 @@ std::vector<Chunk> two_reads(bool second_while_busy) {
       [&](const Chunk& chunk) {
         reads.push_back(chunk);
         reads.back().bytes = {};
-        if (reads.size() == 1) {
+        if (reads.size() != 1) return;
+        const auto busy = [&pty, second_while_busy] {
           if (second_while_busy) {
             pty.write(0x22);
-            // The byte waits in the port before the handler ends, however loaded the host.
+            // The byte waits in the port before the spin ends, however loaded the host.
             while (pty.unread() == 0) {
             }
           }
           spin_for(std::chrono::milliseconds(5));
+        };
+        if (where == BusyWhere::kInTheReadHandler) {
+          busy();
+        } else {
+          boost::asio::post(io, busy);
         }
       },
       [](const std::error_code&) {});
+  if (where == BusyWhere::kInALaterHandler) {
+    // The first byte comes more than the 1 ms allowed after the read was issued, so its
+    // completion reads the thread's CPU time, which the next read's moment then reuses.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
   pty.write(0x11);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   bool written = second_while_busy;
@@ -144,6 +163,19 @@ TEST(LateRead, AByteThatArrivedWhileTheHandlerWasBusyIsReadLate) {
   if (!reads[0].read_late) {
     EXPECT_EQ(reads[0].quiet_until, kUnknownTime);
   }
+}
+
+// The same after a quick handling, whose next read's moment reuses the CPU time read at the
+// completion before it: the thread's work in another handler still bounds the read.
+TEST(LateRead, AByteThatArrivedWhileAnotherHandlerWasBusyIsReadLate) {
+  const auto reads = two_reads(true, BusyWhere::kInALaterHandler);
+  ASSERT_EQ(reads.size(), 2U);
+  EXPECT_TRUE(reads[1].read_late);
+  // The port was last seen empty when the read was issued, before the byte was written and
+  // the 5 ms spin began.
+  ASSERT_NE(reads[1].quiet_until, kUnknownTime);
+  EXPECT_GE(reads[1].quiet_until, reads[0].t_end);
+  EXPECT_LE(reads[1].quiet_until + 5 * kNanosPerMilli, reads[1].t_end);
 }
 
 // The counterpart: the same busy handler, but the byte came after it, while the thread

@@ -58,10 +58,29 @@ std::uint32_t Space::defined_in(std::uint32_t begin, std::uint32_t end) const {
 }
 
 const Space* DeviceMap::space_for(std::uint8_t function) const {
+  if (indexed_spaces_ != spaces.size() || indexed_spaces_ == 0) return search_space_for(function);
+  const std::uint8_t slot = space_slot_[function];
+  return slot == 0 ? nullptr : &spaces[slot - 1U];
+}
+
+const Space* DeviceMap::search_space_for(std::uint8_t function) const {
   for (const auto& space : spaces) {
     if (space.serves(function)) return &space;
   }
   return nullptr;
+}
+
+void DeviceMap::index_spaces() {
+  space_slot_.fill(0);
+  indexed_spaces_ = 0;
+  if (spaces.empty() || spaces.size() >= UINT8_MAX) return;
+  // Filled from the search itself, so the table answers exactly as it does.
+  for (std::size_t function = 0; function < space_slot_.size(); ++function) {
+    const Space* space = search_space_for(static_cast<std::uint8_t>(function));
+    if (space != nullptr)
+      space_slot_[function] = static_cast<std::uint8_t>(space - spaces.data() + 1);
+  }
+  indexed_spaces_ = spaces.size();
 }
 
 std::string_view DeviceMap::exception_name(std::uint8_t code) const {

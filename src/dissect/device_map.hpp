@@ -2,6 +2,7 @@
 // A device model's register map, as loaded from a dissectors/*.toml file (map_loader.hpp;
 // the format is documented in dissectors/README.md). Plain data: no TOML types leak here,
 // so only the loader's translation unit pays for parsing.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -175,6 +176,18 @@ struct DeviceMap {
   [[nodiscard]] const Space* space_for(std::uint8_t function) const;
   // The vendor's name for an exception code, or empty.
   [[nodiscard]] std::string_view exception_name(std::uint8_t code) const;
+
+  // Builds the table space_for() answers from: the register decoder and the identification
+  // ask it of every frame, and a search through each space's functions cost about 40
+  // instructions. Call once `spaces` is final; until then, and whenever `spaces` has changed
+  // size since, space_for() searches instead.
+  void index_spaces();
+
+ private:
+  [[nodiscard]] const Space* search_space_for(std::uint8_t function) const;
+  // space_slot_[fc]: 1 + the index in `spaces` of the space serving fc, or 0.
+  std::array<std::uint8_t, 256> space_slot_{};
+  std::size_t indexed_spaces_ = 0;  // spaces.size() when the table was built
 };
 
 std::string_view point_type_name(PointType type);

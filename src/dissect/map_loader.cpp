@@ -138,6 +138,7 @@ class Loader {
       for (const auto& [id, st] : ordered) read_space(id, *st);
     }
     check_vars_learned();
+    map_.index_spaces();
     return finish();
   }
 

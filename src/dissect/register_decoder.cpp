@@ -141,6 +141,8 @@ void decode_block(BlockContext& c, const DataBlock& b) {
 }
 
 void apply_learning(const Decoded& d, SlaveState& state) {
+  // A point learns into one of the map's variables: a map without any has no point to look at.
+  if (d.map->vars.empty()) return;
   for (const auto& pt : d.points) {
     if (pt.point != nullptr && pt.has_value && pt.point->learn) {
       state.vars[*pt.point->learn] = pt.base;
@@ -149,9 +151,12 @@ void apply_learning(const Decoded& d, SlaveState& state) {
 }
 
 void apply_scale_by(Decoded& d, const SlaveState& state) {
+  // A point scales by the map's variables: without any, no point's list needs a look.
+  const bool has_vars = !d.map->vars.empty();
   for (auto& pt : d.points) {
     if (pt.point == nullptr || !pt.has_value) continue;
     pt.value = pt.base;
+    if (!has_vars) continue;
     for (const std::size_t v : pt.point->scale_by) {
       const auto bit = std::uint32_t{1} << v;
       if (state.vars[v]) {

@@ -351,6 +351,36 @@ TEST(MapLoader, PointAtAgreesWithAScanOfThePointsOnEveryBundledMap) {
   EXPECT_GT(hits, 100U);
 }
 
+// space_for() answers from a table built at load: for every function code of every bundled
+// map it names the space that lists the code, as a scan of the spaces does; a copy of a map
+// whose spaces then change answers from the spaces it has, not from the table.
+TEST(MapLoader, SpaceForAgreesWithAScanOfTheSpacesOnEveryBundledMap) {
+  MapLibrary library;
+  ASSERT_TRUE(library.load_dir(RTUSCOPE_SOURCE_DIR "/dissectors").empty());
+  std::size_t served = 0;
+  for (const auto& map : library.maps()) {
+    for (int code = 0; code < 256; ++code) {
+      const auto function = static_cast<std::uint8_t>(code);
+      const Space* scanned = nullptr;
+      for (const Space& space : map->spaces) {
+        if (scanned == nullptr && space.serves(function)) scanned = &space;
+      }
+      ASSERT_EQ(map->space_for(function), scanned) << map->model << " function " << code;
+      if (scanned != nullptr) ++served;
+    }
+  }
+  EXPECT_GT(served, 8U);
+
+  DeviceMap changed = *library.maps().front();
+  Space extra;
+  extra.id = "extra";
+  extra.functions = {100};
+  changed.spaces.push_back(extra);
+  ASSERT_NE(changed.space_for(100), nullptr);
+  EXPECT_EQ(changed.space_for(100)->id, "extra");
+  EXPECT_EQ(changed.space_for(3), &changed.spaces[0]) << "not the original map's space";
+}
+
 // defined_in() counts per point what point_at() says per address, over ranges that start
 // and end inside points, between them, before the first and past the last (identification
 // asks it for every request's range, up to 65,535 registers).

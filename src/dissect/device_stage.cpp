@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/round_half_away.hpp"
+
 namespace rtu::dissect {
 namespace {
 
@@ -17,7 +19,7 @@ double to_decimals(double value, int decimals) {
   const double scale = decimals >= 0 && decimals < static_cast<int>(kPowersOfTen.size())
                            ? kPowersOfTen[static_cast<std::size_t>(decimals)]
                            : std::pow(10.0, decimals);
-  const double rounded = std::round(value * scale) / scale;
+  const double rounded = round_half_away(value * scale) / scale;
   return std::isfinite(rounded) ? rounded : value;
 }
 

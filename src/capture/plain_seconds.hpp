@@ -35,15 +35,20 @@ inline unsigned leading_digits(std::uint64_t digits) {
   return non_digits == 0 ? 8U : static_cast<unsigned>(std::countr_zero(non_digits)) / 8U;
 }
 
-// The value of the first `count` (0-8) digits of digit_word(). They are moved to the top of
-// the word (zeros before them) and combined pairs, then quads, then whole, instead of by
-// `count` dependent multiply-adds.
-inline std::uint64_t leading_value(std::uint64_t digits, unsigned count) {
-  if (count == 0) return 0;
-  const std::uint64_t d = digits << (8U * (8U - count));
+// The value of the digits of a word whose bytes each hold a digit's value (0-9), the first
+// character in the lowest byte; bytes before the digits hold 0. Combined pairs, then quads,
+// then whole, instead of by a dependent multiply-add per digit.
+inline std::uint64_t digits_value(std::uint64_t d) {
   const std::uint64_t pairs = (d * 10 + (d >> 8)) & 0x00FF00FF00FF00FFULL;
   const std::uint64_t quads = (pairs * 100 + (pairs >> 16)) & 0x0000FFFF0000FFFFULL;
   return (quads * 10000 + (quads >> 32)) & 0xFFFFFFFFULL;
+}
+
+// The value of the first `count` (0-8) digits of digit_word(): moved to the top of the word,
+// zeros before them.
+inline std::uint64_t leading_value(std::uint64_t digits, unsigned count) {
+  if (count == 0) return 0;
+  return digits_value(digits << (8U * (8U - count)));
 }
 
 // Reads the run of digits at text[i...] into `value` and `count` (both 0 before), moving `i`

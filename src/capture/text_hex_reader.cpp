@@ -7,7 +7,6 @@
 
 #include "capture/decimal_time.hpp"
 #include "capture/found_text.hpp"
-#include "capture/plain_seconds.hpp"
 #include "core/hex_digits.hpp"
 #include "core/input_error.hpp"
 
@@ -146,7 +145,7 @@ std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, s
     const std::string_view text = lines_.buffered();
     Nanos ns = 0;
     int decimals = 0;
-    const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
+    const std::size_t stamp_length = stamps_.scan(text, ns, decimals);
     const char* const p = text.data() + stamp_length;
     const int value =
         stamp_length > 0 && text.size() - stamp_length >= 4 && p[0] == ' ' && p[3] == '\n'
@@ -201,7 +200,7 @@ bool TextHexReader::read_plain_data_line() {
   const std::string_view text = lines_.buffered();
   Nanos ns = 0;
   int decimals = 0;
-  const std::size_t stamp_length = scan_plain_seconds(text, ns, decimals);
+  const std::size_t stamp_length = stamps_.scan(text, ns, decimals);
   return stamp_length > 0 && read_plain_data_after_stamp(text, stamp_length, ns, decimals);
 }
 

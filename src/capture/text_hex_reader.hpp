@@ -33,6 +33,7 @@
 #include "capture/capture_warnings.hpp"
 #include "capture/chunk_source.hpp"
 #include "capture/line_reader.hpp"
+#include "capture/stamp_shape_scanner.hpp"
 
 namespace rtu {
 
@@ -86,6 +87,7 @@ class TextHexReader final : public ChunkSource {
   [[noreturn]] void fail(std::size_t column0, std::string_view what) const;
 
   LineReader lines_;
+  StampShapeScanner stamps_;  // the stamps of plain data lines
   BackwardTimeClamp clamp_;
   PartialSettings settings_;
   bool seen_data_ = false;

@@ -74,7 +74,7 @@ inline bool TextHexReader::take_plain_line(std::size_t length, std::string_view 
   lines_.take_line(length);
   if (decimals > max_decimals_) max_decimals_ = decimals;
   pending_line_ = lines_.line_number();
-  pending_t_ = clamp_.admit(ns, stamp, pending_line_);
+  pending_t_ = clamp_.admit_in_place(ns, stamp, pending_line_);
   seen_data_ = true;
   return pending_t_ != ns;
 }
@@ -180,6 +180,7 @@ std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, s
 }
 
 bool TextHexReader::read_data_line() {
+  clamp_.keep_text();  // the line reader moves its text on
   std::string_view line;
   while (lines_.next(line)) {
     const std::size_t start = skip_blanks(line, 0);
@@ -246,7 +247,7 @@ void TextHexReader::parse_data(std::string_view line, std::size_t start) {
                           found_text(word_at(line, pos))));
   }
   pending_line_ = lines_.line_number();
-  pending_t_ = clamp_.admit(t.ns, stamp, pending_line_);
+  pending_t_ = clamp_.admit_in_place(t.ns, stamp, pending_line_);
   pending_clamped_ = pending_t_ != t.ns;
 }
 

@@ -195,6 +195,37 @@ TEST(TextHexReader, BackwardTimeQuotesTheTimeInForceAsWrittenWhateverItsLength) 
             path + ":4: timestamp goes backwards (1.6 after 1.7 on line 3); using 1.7");
 }
 
+// The time in force is quoted from where the reader read it, not copied at every line: it
+// must still be quoted right when the line reader has refilled its buffer since (the line
+// in force at the end of one buffer, across two, the line going back in the next), and
+// when a comment was read between the two lines.
+TEST(TextHexReader, BackwardTimeQuotesTheTimeInForceAcrossTheReadersBuffers) {
+  TempDir dir;
+  const std::size_t filler_lines = 65536 / 7 - 3;  // "0.1 00\n" up to near the first refill
+  for (const bool comment_between : {false, true}) {
+    for (std::size_t pad = 0; pad < 40; ++pad) {
+      std::string content = "#" + std::string(pad, 'x') + "\n";
+      for (std::size_t i = 0; i < filler_lines; ++i) content += "0.1 00\n";
+      content += "5.123456789 01\n";
+      if (comment_between) content += "# a note\n";
+      content += "1.0 02\n";
+      const auto path = dir.write("t.hex", content);
+      std::vector<std::string> warnings;
+      TextHexReader reader(path, [&](std::string_view m) { warnings.emplace_back(m); });
+      const auto chunks = read_all(reader);
+      ASSERT_EQ(chunks.size(), filler_lines + 2);
+      EXPECT_EQ(chunks.back().t_end, 5'123'456'789);
+      const std::size_t in_force = filler_lines + 2;
+      const std::size_t back = in_force + (comment_between ? 2 : 1);
+      ASSERT_EQ(warnings.size(), 1U) << pad;
+      EXPECT_EQ(warnings[0], fmt::format("{}:{}: timestamp goes backwards (1.0 after 5.123456789 "
+                                         "on line {}); using 5.123456789",
+                                         path, back, in_force))
+          << "pad " << pad << (comment_between ? ", comment between" : "");
+    }
+  }
+}
+
 TEST(TextHexReader, ManyBackwardTimesAreSummarisedAtTheEnd) {
   TempDir dir;
   std::string content = "9.0 00\n";

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -53,6 +54,10 @@ class BackwardTimeClamp {
     last_in_place_ = text;
     last_position_ = line;
     return t;
+  }
+  // The earliest time admit() and admit_in_place() take as it is (not clamped).
+  [[nodiscard]] Nanos admits_from() const {
+    return have_last_ ? last_ : std::numeric_limits<Nanos>::min();
   }
   // The text admit_in_place() was last given is about to change: it is copied now.
   void keep_text() {

@@ -37,9 +37,11 @@ class LineReader {
     return {buffer_.get() + begin_, end_ - begin_};
   }
   // Consumes the first `length` characters of buffered(), one whole line with its '\n'.
-  void take_line(std::size_t length) {
+  void take_line(std::size_t length) { take_lines(length, 1); }
+  // The same for the first `length` characters that are `lines` whole lines.
+  void take_lines(std::size_t length, std::size_t lines) {
     begin_ += length;
-    ++line_number_;
+    line_number_ += lines;
   }
 
   // 1-based number of the line last returned by next() or taken.

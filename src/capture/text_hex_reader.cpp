@@ -133,15 +133,57 @@ bool TextHexReader::next(Chunk& out) {
   return true;
 }
 
+std::size_t TextHexReader::take_byte_lines(std::uint8_t* bytes, Nanos* t_ends, std::size_t room) {
+  // What each line would update, in locals until the run ends: the stores into `bytes` may
+  // alias anything (they are uint8_t), so members would be reloaded at every line.
+  const std::string_view text = lines_.buffered();
+  std::size_t at = 0;
+  std::size_t taken = 0;
+  Nanos admitted_from = clamp_.admits_from();
+  int max_decimals = max_decimals_;
+  std::string_view last_stamp;
+  while (taken < room) {
+    const std::string_view rest = text.substr(at);
+    Nanos ns = 0;
+    int decimals = 0;
+    const std::size_t stamp_length = stamps_.scan(rest, ns, decimals);
+    const char* const p = rest.data() + stamp_length;
+    if (stamp_length == 0 || rest.size() - stamp_length < 4 || p[0] != ' ' || p[3] != '\n') break;
+    const int value = hex_pair_value(p + 1);
+    if (value < 0 || ns < admitted_from) break;  // a time going back is clamped line by line
+    bytes[taken] = static_cast<std::uint8_t>(value);
+    t_ends[taken] = ns;
+    if (decimals > max_decimals) max_decimals = decimals;
+    admitted_from = ns;
+    last_stamp = rest.substr(0, stamp_length);
+    at += stamp_length + 4;
+    ++taken;
+  }
+  if (taken > 0) {
+    lines_.take_lines(at, taken);
+    max_decimals_ = max_decimals;
+    pending_line_ = lines_.line_number();
+    // In order, so admitted as it is: the time in force is the run's last.
+    pending_t_ = clamp_.admit_in_place(admitted_from, last_stamp, pending_line_);
+    seen_data_ = true;
+  }
+  return taken;
+}
+
 std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, std::size_t room,
                                            std::uint64_t& first_origin) {
   if (have_pending_) return 0;
   std::size_t got = 0;
   // Plain lines follow one another with nothing between, so their origins (line numbers) do.
   while (got < room) {
-    // Nearly every line of a per-byte capture is "<plain seconds> hh\n": read at once here.
-    // Any other line goes to the general plain-line reading, which leaves to next() what it
-    // cannot read.
+    // Nearly every line of a per-byte capture is "<plain seconds> hh\n": read in runs here.
+    if (const std::size_t run = take_byte_lines(bytes + got, t_ends + got, room - got); run > 0) {
+      if (got == 0) first_origin = pending_line_ + 1 - run;
+      got += run;
+      continue;
+    }
+    // Any other line, and one whose time goes back, is read on its own; the general
+    // plain-line reading leaves to next() what it cannot read.
     const std::string_view text = lines_.buffered();
     Nanos ns = 0;
     int decimals = 0;

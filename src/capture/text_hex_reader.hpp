@@ -78,6 +78,10 @@ class TextHexReader final : public ChunkSource {
   [[gnu::always_inline]] bool read_plain_data_after_stamp(std::string_view text,
                                                           std::size_t stamp_length, Nanos ns,
                                                           int decimals);
+  // Reads the data lines "<plain seconds> hh\n" at the start of the buffered text, one after
+  // the other and each no earlier than the one before, as next_byte_reads() would one by
+  // one: up to `room` of them, and returns how many (0 where the first is not such a line).
+  std::size_t take_byte_lines(std::uint8_t* bytes, Nanos* t_ends, std::size_t room);
   // Consumes the plain data line of `length` characters just parsed (stamp, its value, its
   // decimals), as its data line. True when its time went back and was clamped.
   [[gnu::always_inline, nodiscard]] bool take_plain_line(std::size_t length, std::string_view stamp,

@@ -40,7 +40,6 @@ class StampShapeScanner {
   static std::uint64_t first_bytes(std::size_t count) {
     return count >= 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * count)) - 1;
   }
-  static bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
   std::size_t scan_in_shape(std::string_view text, Nanos& ns_out, int& decimals_out) const {
     using byte_words::kHighBits;
@@ -48,7 +47,7 @@ class StampShapeScanner {
     if (text.size() < min_text_) return 0;
     const char* const p = text.data();
     // The stamp ends where the last one did: its point in place, no digit after its decimals.
-    if (p[dot_] != '.' || is_digit(p[length_])) return 0;
+    if (p[dot_] != '.' || plain_seconds_detail::is_digit(p[length_])) return 0;
     // The same whole seconds, character for character.
     if (((byte_words::load(p) ^ whole_[0]) & whole_mask_[0]) != 0) return 0;
     if (whole_mask_[1] != 0 && ((byte_words::load(p + 8) ^ whole_[1]) & whole_mask_[1]) != 0) {
@@ -62,7 +61,7 @@ class StampShapeScanner {
     if ((tens & kHighBits & tail_mask_) != 0) return 0;
     std::uint64_t fraction = plain_seconds_detail::digits_value(values & tail_mask_);
     if (ninth_decimal_) {
-      if (!is_digit(p[dot_ + 1])) return 0;
+      if (!plain_seconds_detail::is_digit(p[dot_ + 1])) return 0;
       fraction += static_cast<std::uint64_t>(p[dot_ + 1] - '0') * 100'000'000U;
     }
     const std::uint64_t ns = whole_ns_ + fraction * fraction_scale_;

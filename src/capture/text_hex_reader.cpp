@@ -182,38 +182,20 @@ std::size_t TextHexReader::next_byte_reads(std::uint8_t* bytes, Nanos* t_ends, s
       got += run;
       continue;
     }
-    // Any other line, and one whose time goes back, is read on its own; the general
-    // plain-line reading leaves to next() what it cannot read.
+    // Any other line, and one whose time goes back, is read on its own by the general
+    // plain-line reading, which leaves to next() what it cannot read.
     const std::string_view text = lines_.buffered();
     Nanos ns = 0;
     int decimals = 0;
     const std::size_t stamp_length = stamps_.scan(text, ns, decimals);
-    const char* const p = text.data() + stamp_length;
-    const int value =
-        stamp_length > 0 && text.size() - stamp_length >= 4 && p[0] == ' ' && p[3] == '\n'
-            ? hex_pair_value(p + 1)
-            : -1;
-    if (value >= 0) {
-      if (take_plain_line(stamp_length + 4, text.substr(0, stamp_length), ns, decimals))
-          [[unlikely]] {
-        // Not a read of the run: next() gives it, with its time marked.
-        pending_clamped_ = true;
-        bytes_[0] = static_cast<std::uint8_t>(value);
-        byte_count_ = 1;
-        have_pending_ = true;
-        break;
-      }
-      bytes[got] = static_cast<std::uint8_t>(value);
-    } else {
-      if (stamp_length == 0 || !read_plain_data_after_stamp(text, stamp_length, ns, decimals)) {
-        break;
-      }
-      if (byte_count_ != 1 || pending_clamped_) {
-        have_pending_ = true;  // a read of several bytes, or a clamped one: next() gives it
-        break;
-      }
-      bytes[got] = bytes_[0];
+    if (stamp_length == 0 || !read_plain_data_after_stamp(text, stamp_length, ns, decimals)) {
+      break;
     }
+    if (byte_count_ != 1 || pending_clamped_) {
+      have_pending_ = true;  // a read of several bytes, or a clamped one: next() gives it
+      break;
+    }
+    bytes[got] = bytes_[0];
     if (got == 0) first_origin = pending_line_;
     t_ends[got] = pending_t_;
     ++got;

@@ -2,7 +2,7 @@
 """CPU of `rtuscope live` on a saturated virtual bus, as a plant would see it.
 
     tools/bench/live_cpu.py [--baud 115200] [--seconds 60] [--usb-latency-ms 1]
-                            [--build build] [--floor]
+                            [--build build] [--floor | --asio-floor]
 
 A master and a slave endpoint of rtuvbus exchange CRC-valid Modbus frames back to back
 (requests of 8 bytes, answers of 5-69 bytes, a pause of four characters between frames),
@@ -20,7 +20,10 @@ rtuscope's own summary of its reads.
 
 With --floor, tools/bench/read_floor listens instead of rtuscope: a blocking read() per batch
 the port hands over and nothing else, the least CPU any program can use to hear the same
-reads on this machine. rtuscope's figure minus that one is what its own work costs.
+reads on this machine. rtuscope's figure minus that one is what its own work costs. With
+--asio-floor, tools/bench/asio_read_floor listens: the same through Boost.Asio's reactor, as
+rtuscope reads (epoll_wait, the read, and the read that finds the port empty before each
+wait), which is the least an Asio program can use.
 """
 import argparse
 import os
@@ -55,8 +58,13 @@ def main():
     ap.add_argument("--build", default=os.path.join(os.path.dirname(__file__), "../../build"))
     ap.add_argument("--floor", action="store_true",
                     help="measure tools/bench/read_floor (a bare blocking reader) instead")
+    ap.add_argument("--asio-floor", action="store_true",
+                    help="measure tools/bench/asio_read_floor (a bare Asio reader) instead")
     args = ap.parse_args()
-    listener = "read_floor" if args.floor else "rtuscope live"
+    if args.floor and args.asio_floor:
+        ap.error("--floor and --asio-floor measure different listeners: give one")
+    floor = "read_floor" if args.floor else "asio_read_floor" if args.asio_floor else None
+    listener = floor or "rtuscope live"
     char_s = 11 / args.baud  # 8E1
     work = tempfile.mkdtemp(prefix="rtuscope-livecpu-")
     links = os.path.join(work, "bus")
@@ -72,9 +80,8 @@ def main():
             if time.monotonic() > deadline:
                 sys.exit("live_cpu: the virtual bus did not come up")
             time.sleep(0.05)
-        if args.floor:
-            command = [os.path.join(args.build, "tools", "bench", "read_floor"),
-                       os.path.join(links, "ep2")]
+        if floor:
+            command = [os.path.join(args.build, "tools", "bench", floor), os.path.join(links, "ep2")]
         else:
             command = [os.path.join(args.build, "rtuscope"), "live", os.path.join(links, "ep2"),
                        "--baud", str(args.baud), "--format", "jsonl",

@@ -9,7 +9,9 @@
 # `export --raw` and live recordings hold them) and a classic pcap of LINKTYPE 252 frames for
 # tshark. Then each command runs RUNS times (default 3), and a Markdown table gives the least
 # wall time, frames per second, the ratio to tshark and the largest peak RSS. tshark runs with its default preferences (its
-# fastest: CRC checking off). Use a Release build (cmake --preset release).
+# fastest: CRC checking off). The native pcapng's report runs once more on one core
+# (taskset), where the speed target for a live recording is set. Use a Release build
+# (cmake --preset release).
 # The captures stay in WORK_DIR (default: a new temporary folder, removed at the end).
 #
 # A second table does the same for adversarial traffic: RANDOM_FRAMES frames (default
@@ -82,6 +84,11 @@ results+=("$(run "tshark -T fields (unit id, function code)" "frames.pcap" \
 for input in native.pcapng perbyte.hex usb.hex; do
   results+=("$(run "rtuscope report --format json" "$input" \
     "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
+  # The speed target for a live recording is set on one core (tshark uses one too).
+  if [[ $input == native.pcapng ]] && command -v taskset >/dev/null; then
+    results+=("$(run "rtuscope report --format json, one core (taskset -c 0)" "$input" \
+      taskset -c 0 "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
+  fi
   results+=("$(run "rtuscope report, models named (--device)" "$input" \
     "$rtuscope" report "$work/$input" --format json --no-identify "${named[@]}" -o /dev/null -q)")
   results+=("$(run "rtuscope report --no-identify" "$input" \

@@ -89,6 +89,10 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
       if (last_end != kUnknownTime && (i > 0 || time_known)) {
         gap = std::max<Nanos>(0, start - last_end);
       }
+    } else if (i > 0) {
+      // What the formula below gives once the read's first byte is placed (both sides of
+      // its max grow by a character time a byte): back to back after the byte before.
+      end = last_end + char_time;
     } else {
       // The read completed when the last byte had arrived; earlier bytes arrived at the
       // latest one character time apart, and never before the previous byte ended.
@@ -100,8 +104,8 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
       }
     }
   };
-  const auto store_byte = [&](std::size_t i, std::size_t slot, Nanos end, Nanos gap) {
-    settled_[slot] = false;  // a new position, not looked at yet (no range check: slot < kWindow)
+  // The byte's position, a new one, is marked not looked at yet by the caller.
+  const auto store_byte = [&](std::size_t i, Nanos end, Nanos gap) {
     bytes_[end_] = bytes[i];
     info_[end_] =
         ByteInfo{end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}};
@@ -116,7 +120,8 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
     Nanos end = 0;
     Nanos gap = kUnknownTime;
     time_byte(0, end, gap);
-    store_byte(0, (consumed_ + buffered()) % kWindow, end, gap);
+    settled_.clear((consumed_ + buffered()) % kWindow);
+    store_byte(0, end, gap);
     last_byte_end_ = end;
     if (buffered() >= kMaxPending) [[unlikely]] {
       decide(false);
@@ -135,13 +140,12 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
     const std::size_t pending = buffered();
     const std::size_t until_forced = pending < kMaxPending ? kMaxPending - pending : 1;
     const std::size_t stretch_end = i + std::min({n - i, kWindow - end_, until_forced});
-    std::size_t slot = (consumed_ + pending) % kWindow;
+    settled_.clear_run((consumed_ + pending) % kWindow, stretch_end - i);
     for (; i < stretch_end; ++i) {
       Nanos end = 0;
       Nanos gap = kUnknownTime;
       time_byte(i, end, gap);
-      store_byte(i, slot, end, gap);
-      slot = (slot + 1) % kWindow;
+      store_byte(i, end, gap);
       last_end = end;
     }
     last_byte_end_ = last_end;
@@ -445,7 +449,7 @@ void Framer::run_quiet_watch_on_to(std::uint64_t end) {
   // A start whose CRC search reached the longest frame with no zero, watched for that
   // alone, is known to start no frame: its next search would say so and settle it.
   quiet_starts_.take_exhausted(epoch_,
-                               [this](std::uint64_t start) { settled_[start % kWindow] = true; });
+                               [this](std::uint64_t start) { settled_.set(start % kWindow); });
 }
 
 // Whether the CRC search from `pos`, extended over the bytes that came since, still found
@@ -473,7 +477,7 @@ void Framer::watch(std::size_t pos, const QuietStart& quiet) {
 std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending) {
   const std::uint64_t start = consumed_ + pos;
   const std::size_t slot = start % kWindow;
-  if (settled_[slot]) return 0;
+  if (settled_.test(slot)) return 0;
   if (!at_end) {
     const QuietStart* quiet = quiet_starts_.find(start, epoch_, consumed_ + buffered());
     if (quiet != nullptr && (!quiet->watch_crc_scan || crc_scan_still_quiet(pos))) {
@@ -489,7 +493,7 @@ std::size_t Framer::settled_or_confirmed_length(std::size_t pos, bool at_end, bo
   const std::size_t length = confirmed_length(pos, at_end, kGenericDepth, pending, &notes);
   // Only a search that waited for nothing is final: at the end of input, too few bytes
   // are a "no" that more bytes could turn into a "yes".
-  if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_[slot] = true;
+  if (length == 0 && !*pending && !answer_may_change_ && !at_end) settled_.set(slot);
   if (length == 0 && (*pending || answer_may_change_) && !at_end && !notes.next_byte_matters &&
       config_.remember_quiet_starts) {
     const QuietStart& quiet = quiet_starts_.remember(
@@ -720,7 +724,7 @@ void Framer::learn_from(std::size_t length) {
     if (b.chunk_size < 2 && info_at(i - 1).chunk_size < 2) continue;
     resolution_ = b.gap_before;
     silence_search_from_ = 0;  // silences are judged anew with it
-    settled_.reset();
+    settled_.clear_all();
     new_epoch();
   }
 }

@@ -26,6 +26,7 @@
 #include "framing/crc_zero_index.hpp"
 #include "framing/quiet_starts.hpp"
 #include "framing/record.hpp"
+#include "framing/window_bits.hpp"
 #include "serial/line_settings.hpp"
 
 namespace rtu {
@@ -275,7 +276,7 @@ class Framer {
   mutable SilenceLook last_silence_look_;
   // Window positions (absolute modulo kWindow) known not to start a confirmable frame
   // whatever bytes come next: searches skip them. Cleared when the resolution changes.
-  std::bitset<kWindow> settled_;
+  WindowBits<kWindow> settled_;
   // Set during a search when a frame it depends on may still be completed by more bytes.
   mutable bool answer_may_change_ = false;
   QuietStarts quiet_starts_;
@@ -350,7 +351,7 @@ inline bool Framer::push_first_byte_if_it_waits(std::uint8_t byte, Nanos now,
   if (noise_.size != 0) return false;  // advance() may end the noise
   const auto [end, gap] = time_after(now, last_byte_end_, char_time_);
   const std::uint64_t window_end = consumed_ + 1;
-  settled_[consumed_ % kWindow] = false;  // a new position, not looked at yet
+  settled_.clear(consumed_ % kWindow);  // a new position, not looked at yet
   bytes_[end_] = byte;
   info_[end_] = ByteInfo{end, gap, origin, 1, 0};
   ++end_;
@@ -379,7 +380,7 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
     return 0;
   }
   const std::uint64_t first_end = consumed_ + held + 1;  // the window's end with the first read
-  if (silence_search_from_ != first_end - 1 || settled_[consumed_ % kWindow]) return 0;
+  if (silence_search_from_ != first_end - 1 || settled_.test(consumed_ % kWindow)) return 0;
   const QuietStart* head = quiet_starts_.find(consumed_, epoch_, first_end);
   if (head == nullptr || head->watch_crc_scan || !head->pending) return 0;
   // The remembered answer holds while the window ends before head->until; the window's room
@@ -399,7 +400,7 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
     if (now - last >= quiet) break;  // advance() would decide
     const auto [end, gap] = time_after(now, last, char_time);
     if (silence_before(gap)) break;
-    settled_[(first_end - 1 + k) % kWindow] = false;  // a new position, not looked at yet
+    settled_.clear((first_end - 1 + k) % kWindow);  // a new position, not looked at yet
     to_bytes[k] = bytes[k];
     to_info[k] = ByteInfo{end, gap, origin + k, 1, 0};
     newest = std::max(newest, now);

@@ -29,16 +29,14 @@ class LineReader {
   bool next(std::string_view& line);
 
   // The unread rest of the buffer, for a caller that reads lines in place: where it finds a
-  // whole line there (up to and including its '\n') in a shape it knows, take_line() consumes
+  // whole line there (up to and including its '\n') in a shape it knows, take_lines() consumes
   // it as next() would have returned it, without a look for the '\n' first or a copy. Empty
   // before the first fill and at the end of each; next() reads on. Never longer than
   // kMaxLineLength, so a line found in it whole is never too long.
   [[nodiscard]] std::string_view buffered() const {
     return {buffer_.get() + begin_, end_ - begin_};
   }
-  // Consumes the first `length` characters of buffered(), one whole line with its '\n'.
-  void take_line(std::size_t length) { take_lines(length, 1); }
-  // The same for the first `length` characters that are `lines` whole lines.
+  // Consumes the first `length` characters of buffered(), `lines` whole lines with their '\n'.
   void take_lines(std::size_t length, std::size_t lines) {
     begin_ += length;
     line_number_ += lines;

@@ -69,9 +69,9 @@ void TextHexReader::fail(std::size_t column0, std::string_view what) const {
 }
 
 // Returns whether the line's time went back (and was clamped to the time before).
-inline bool TextHexReader::take_plain_line(std::size_t length, std::string_view stamp, Nanos ns,
-                                           int decimals) {
-  lines_.take_line(length);
+inline bool TextHexReader::take_plain_lines(std::size_t length, std::size_t lines,
+                                            std::string_view stamp, Nanos ns, int decimals) {
+  lines_.take_lines(length, lines);
   if (decimals > max_decimals_) max_decimals_ = decimals;
   pending_line_ = lines_.line_number();
   pending_t_ = clamp_.admit_in_place(ns, stamp, pending_line_);
@@ -114,7 +114,7 @@ inline bool TextHexReader::read_plain_data_after_stamp(std::string_view text,
   if (count == 0) return false;
   byte_count_ = count;
   const std::size_t line_end = static_cast<std::size_t>(p - text.data()) + (p[0] == '\r' ? 2 : 1);
-  pending_clamped_ = take_plain_line(line_end, text.substr(0, stamp_length), ns, decimals);
+  pending_clamped_ = take_plain_lines(line_end, 1, text.substr(0, stamp_length), ns, decimals);
   return true;
 }
 
@@ -159,14 +159,8 @@ std::size_t TextHexReader::take_byte_lines(std::uint8_t* bytes, Nanos* t_ends, s
     at += stamp_length + 4;
     ++taken;
   }
-  if (taken > 0) {
-    lines_.take_lines(at, taken);
-    max_decimals_ = max_decimals;
-    pending_line_ = lines_.line_number();
-    // In order, so admitted as it is: the time in force is the run's last.
-    pending_t_ = clamp_.admit_in_place(admitted_from, last_stamp, pending_line_);
-    seen_data_ = true;
-  }
+  // In order, so admitted as it is (never clamped): the time in force is the run's last.
+  if (taken > 0) (void)take_plain_lines(at, taken, last_stamp, admitted_from, max_decimals);
   return taken;
 }
 

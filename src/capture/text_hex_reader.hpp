@@ -82,10 +82,12 @@ class TextHexReader final : public ChunkSource {
   // the other and each no earlier than the one before, as next_byte_reads() would one by
   // one: up to `room` of them, and returns how many (0 where the first is not such a line).
   std::size_t take_byte_lines(std::uint8_t* bytes, Nanos* t_ends, std::size_t room);
-  // Consumes the plain data line of `length` characters just parsed (stamp, its value, its
-  // decimals), as its data line. True when its time went back and was clamped.
-  [[gnu::always_inline, nodiscard]] bool take_plain_line(std::size_t length, std::string_view stamp,
-                                                         Nanos ns, int decimals);
+  // Consumes the first `lines` plain data lines, `length` characters, just parsed: the last
+  // one's stamp text and time, and the most decimals among them. The last is the data line
+  // in force. True when its time went back and was clamped.
+  [[gnu::always_inline, nodiscard]] bool take_plain_lines(std::size_t length, std::size_t lines,
+                                                          std::string_view stamp, Nanos ns,
+                                                          int decimals);
   void parse_comment(std::string_view line, std::size_t hash_pos);
   void parse_data(std::string_view line, std::size_t start);
   [[noreturn]] void fail(std::size_t column0, std::string_view what) const;

@@ -6,7 +6,8 @@
 CHECK is one of: determinism, truth, chunking, faults, scorer, heavy (rtusim, the scorer and
 the miss classifier alone); decode_clean (RTUSCOPE decodes a fresh clean per-byte capture
 perfectly); decode_bytes (every byte accounted for under heavy faults); decode_heavy
-(rtuscope and the reference decoder on the heavy profile); captures (each
+(rtuscope and the reference decoder on the heavy profile); decode_recording (the
+--pcapng recording decodes as the text hex of the same reads); captures (each
 simulated capture in SOURCE_DIR/captures is reproduced by its provenance command and decoded
 accurately).
 """
@@ -489,6 +490,61 @@ def check_decode_bytes(sim, rtuscope):
                    f"{name}: {s['t35_false']} false t3.5 and {s['t15_false']} false t1.5 flags")
 
 
+def pcapng_records(path):
+    """[(link type, ns timestamp, event byte, payload)] of a pcapng file's packets
+    (little-endian, one section, ns resolution: as rtusim writes it)."""
+    import struct
+    data = open(path, "rb").read()
+    links, out, pos = [], [], 0
+    while pos < len(data):
+        kind, length = struct.unpack_from("<II", data, pos)
+        if kind == 1:
+            links.append(struct.unpack_from("<H", data, pos + 8)[0])
+        elif kind == 6:
+            iface, high, low, captured = struct.unpack_from("<IIII", data, pos + 8)
+            packet = data[pos + 28:pos + 28 + captured]
+            out.append((links[iface], (high << 32) | low, packet[8], packet[12:]))
+        pos += length
+    return out
+
+
+def check_decode_recording(sim, rtuscope):
+    """--pcapng writes the same reads as --out, as a live recording holds them (one RTAC
+    DATA_RX_START record per read), and both files decode to the same records and report,
+    on a sick bus, per byte and through the USB model."""
+    for chunking in ("perbyte", "usb"):
+        name = f"recording_{chunking}"
+        p = sim.run(name, "--seed", "17", "--transactions", "400", "--profile", "heavy",
+                    "--faults", "0.4", "--chunking", chunking, "--baud", "19200")
+        recording = os.path.join(sim.work, name + ".pcapng")
+        subprocess.run([sim.exe, "--seed", "17", "--transactions", "400", "--profile", "heavy",
+                        "--faults", "0.4", "--chunking", chunking, "--baud", "19200",
+                        "--pcapng", recording], check=True)
+        _, reads = read_hex(p["hex"])
+        records = pcapng_records(recording)
+        expect(len(records) == len(reads), f"{name}: {len(records)} records for {len(reads)} reads")
+        for (t, data), (link, stamp, event, payload) in zip(reads, records):
+            expect(link == 250 and stamp == t and event == 2 and payload == bytes(data),
+                   f"{name}: the read at {t} ns recorded as link {link}, time {stamp}, "
+                   f"event {event}, {payload.hex()}")
+        outputs = []
+        for path in (p["hex"], recording):
+            decoded = subprocess.run([rtuscope, "decode", path, "--format", "jsonl"],
+                                     check=True, capture_output=True, text=True).stdout
+            report = subprocess.run([rtuscope, "report", path, "--format", "json"],
+                                    check=True, capture_output=True, text=True).stdout
+            capture, *rest = decoded.splitlines()
+            capture = json.loads(capture)
+            expect(capture["source"] == path, f"{name}: capture line names {capture['source']}")
+            report = json.loads(report)
+            report["capture"].pop("source")
+            outputs.append((rest, report))
+        expect(len(outputs[0][0]) > 800, f"{name}: only {len(outputs[0][0])} records decoded")
+        expect(outputs[0][0] == outputs[1][0], f"{name}: the recording decodes differently")
+        expect(outputs[0][1] == outputs[1][1], f"{name}: the recording reports differently")
+        print(f"{name}: {len(records)} reads, {len(outputs[0][0])} records, same from both")
+
+
 def check_captures(sim, rtuscope, source_dir):
     """Every simulated capture in captures/ is what its provenance command writes today, and
     rtuscope decodes it accurately (clean: 100% frames; with faults: at least 99%)."""
@@ -536,6 +592,8 @@ def main():
         check_decode_bytes(sim, sys.argv[4])
     elif check == "decode_heavy":
         check_decode_heavy(sim, sys.argv[4])
+    elif check == "decode_recording":
+        check_decode_recording(sim, sys.argv[4])
     elif check == "captures":
         check_captures(sim, sys.argv[4], sys.argv[5])
     else:

@@ -4,14 +4,15 @@
 #   tools/bench/compare.sh [FRAMES] [WORK_DIR]
 #
 # The simulator writes FRAMES frames (default 5,000,000) of 19200-baud polling traffic twice:
-# one byte per line (a logic analyser's view) and in USB adapter reads. From the USB capture
-# rtuscope writes its native pcapng (raw reads of 1-62 bytes plus the decoded frames, as
-# `export --raw` and live recordings hold them) and a classic pcap of LINKTYPE 252 frames for
-# tshark. Then each command runs RUNS times (default 3), and a Markdown table gives the least
-# wall time, frames per second, the ratio to tshark and the largest peak RSS. tshark runs with its default preferences (its
-# fastest: CRC checking off). The native pcapng's report runs once more on one core
-# (taskset), where the speed target for a live recording is set. Use a Release build
-# (cmake --preset release).
+# one byte per line (a logic analyser's view) and in USB adapter reads. The USB reads are
+# also written as a live recording holds them (recording.pcapng: one raw-read record per read
+# of 1-62 bytes, rtusim --pcapng). From the USB capture rtuscope writes its native export
+# (native.pcapng: the raw reads plus the decoded frames, as `export --raw` holds them) and a
+# classic pcap of LINKTYPE 252 frames for tshark. Then each command runs RUNS times (default
+# 3), and a Markdown table gives the least wall time, frames per second, the ratio to tshark
+# and the largest peak RSS. tshark runs with its default preferences (its fastest: CRC
+# checking off). Each pcapng's report runs once more on one core (taskset): the speed target
+# for a live recording is set there. Use a Release build (cmake --preset release).
 # The captures stay in WORK_DIR (default: a new temporary folder, removed at the end).
 #
 # A second table does the same for adversarial traffic: RANDOM_FRAMES frames (default
@@ -40,7 +41,7 @@ echo "Making captures of $frames frames in $work ..." >&2
 "$rtusim" --transactions "$transactions" --baud 19200 --chunking perbyte --seed 1 \
   --out "$work/perbyte.hex" >/dev/null
 "$rtusim" --transactions "$transactions" --baud 19200 --chunking usb --seed 1 \
-  --out "$work/usb.hex" >/dev/null
+  --out "$work/usb.hex" --pcapng "$work/recording.pcapng" >/dev/null
 "$rtuscope" export "$work/usb.hex" --raw -o "$work/native.pcapng" -q 2>/dev/null
 "$rtuscope" export "$work/usb.hex" -o "$work/frames.pcap" -q 2>/dev/null
 # Every capture holds the same frames; the report says how many.
@@ -81,11 +82,11 @@ results=()
 results+=("$(run "tshark -T fields (unit id, function code)" "frames.pcap" \
   tshark -n -r "$work/frames.pcap" -T fields -e frame.number -e mbrtu.unit_id \
   -e modbus.func_code)")
-for input in native.pcapng perbyte.hex usb.hex; do
+for input in recording.pcapng native.pcapng perbyte.hex usb.hex; do
   results+=("$(run "rtuscope report --format json" "$input" \
     "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
   # The speed target for a live recording is set on one core (tshark uses one too).
-  if [[ $input == native.pcapng ]] && command -v taskset >/dev/null; then
+  if [[ $input == *.pcapng ]] && command -v taskset >/dev/null; then
     results+=("$(run "rtuscope report --format json, one core (taskset -c 0)" "$input" \
       taskset -c 0 "$rtuscope" report "$work/$input" --format json -o /dev/null -q)")
   fi
@@ -123,7 +124,7 @@ EOF
 size_of() { du -m "$work/$1" | cut -f1; }
 echo
 echo "$count frames; captures: per-byte hex $(size_of perbyte.hex) MB, USB hex $(size_of usb.hex) MB," \
-  "native pcapng $(size_of native.pcapng) MB, pcap 252 $(size_of frames.pcap) MB; $(nproc) cores"
+  "recording $(size_of recording.pcapng) MB, native export $(size_of native.pcapng) MB, pcap 252 $(size_of frames.pcap) MB; $(nproc) cores"
 echo
 table "$count" "${results[@]}"
 

@@ -15,6 +15,7 @@
 #include "bus_simulator.hpp"
 #include "device_profile.hpp"
 #include "hex_writer.hpp"
+#include "recording_writer.hpp"
 #include "saleae_writer.hpp"
 #include "truth_writer.hpp"
 #include "usb_adapter_model.hpp"
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
   std::string out_path;
   std::string truth_path;
   std::string saleae_path;
+  std::string pcapng_path;
   std::string chunking = "perbyte";
   std::uint64_t seed = 1;
   double duration_s = 0;
@@ -86,6 +88,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_path, "text hex capture to write (FILE.hex)");
   app.add_option("--truth", truth_path, "ground truth to write (FILE.jsonl)");
   app.add_option("--saleae", saleae_path, "Saleae Logic 2 data-table export to write (FILE.csv)");
+  app.add_option("--pcapng", pcapng_path,
+                 "the same reads as --out, recorded as `rtuscope live -w` records them "
+                 "(FILE.pcapng; no timing resolution or timeout declared)");
   app.add_option("--chunking", chunking, "perbyte: one byte per line; usb: FTDI-like reads")
       ->check(CLI::IsMember({"perbyte", "usb"}));
   app.add_option("--seed", seed, "random seed; same seed and options give identical files");
@@ -137,8 +142,8 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (out_path.empty() && truth_path.empty() && saleae_path.empty()) {
-      throw std::runtime_error("nothing to write: give --out, --truth and/or --saleae");
+    if (out_path.empty() && truth_path.empty() && saleae_path.empty() && pcapng_path.empty()) {
+      throw std::runtime_error("nothing to write: give --out, --pcapng, --truth and/or --saleae");
     }
     BusOptions opt;
     opt.line.baud = baud;
@@ -183,7 +188,7 @@ int main(int argc, char** argv) {
     const Timeline timeline = simulate_bus(opt, devices);
     const std::string command = provenance(argc, argv);
 
-    if (!out_path.empty()) {
+    if (!out_path.empty() || !pcapng_path.empty()) {
       std::vector<OutputChunk> chunks;
       if (chunking == "usb") {
         UsbAdapterModel model;
@@ -195,8 +200,13 @@ int main(int argc, char** argv) {
       } else {
         chunks = chunk_per_byte(timeline.bytes());
       }
-      auto out = open_output(out_path);
-      write_hex_capture(out, opt.line, command, timeline.bytes(), chunks);
+      if (!out_path.empty()) {
+        auto out = open_output(out_path);
+        write_hex_capture(out, opt.line, command, timeline.bytes(), chunks);
+      }
+      if (!pcapng_path.empty()) {
+        write_read_recording(pcapng_path, opt.line, timeline.bytes(), chunks);
+      }
     }
     if (!saleae_path.empty()) {
       auto out = open_output(saleae_path);

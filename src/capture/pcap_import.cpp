@@ -68,6 +68,12 @@ std::optional<Nanos> parse_timeout_description(std::string_view text) {
   return parse_milliseconds_after(text, "response timeout ");
 }
 
+std::string milliseconds_text(Nanos t) {
+  return t % kNanosPerMilli == 0
+             ? fmt::format("{} ms", t / kNanosPerMilli)
+             : fmt::format("{}.{:06} ms", t / kNanosPerMilli, t % kNanosPerMilli);
+}
+
 std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string_view key) {
   const auto at = text.find(key);
   if (at == std::string_view::npos) return std::nullopt;

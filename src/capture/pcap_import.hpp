@@ -104,6 +104,9 @@ class PcapImporter {
   std::vector<std::uint32_t> port_interfaces_;  // index = port
 };
 
+// "16 ms", "0.500000 ms": a duration exactly, as interface descriptions declare it and
+// parse_milliseconds_after reads it back.
+std::string milliseconds_text(Nanos t);
 // "<key><ms> ms" anywhere in `text`, e.g. key "timing resolution " and "16.000 ms".
 std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string_view key);
 // "timing resolution 16.000 ms" anywhere in `text`.

@@ -7,6 +7,7 @@
 
 #include "capture/byte_output.hpp"
 #include "capture/pcap_format.hpp"
+#include "capture/pcap_import.hpp"
 #include "core/input_error.hpp"
 #include "core/output_error.hpp"
 
@@ -19,13 +20,6 @@ RtacEvent event_for(std::uint8_t errors, RtacEvent data_event) {
   if ((errors & kFramingError) != 0) return RtacEvent::kFramingError;
   if ((errors & kParityError) != 0) return RtacEvent::kParityError;
   return data_event;
-}
-
-// "16 ms", "0.500000 ms": exact, and what parse_milliseconds_after reads back.
-std::string milliseconds_text(Nanos t) {
-  return t % kNanosPerMilli == 0
-             ? fmt::format("{} ms", t / kNanosPerMilli)
-             : fmt::format("{}.{:06} ms", t / kNanosPerMilli, t % kNanosPerMilli);
 }
 
 // Block overhead of an EPB without options, for the size limit (an estimate is enough).

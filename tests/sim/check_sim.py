@@ -510,9 +510,11 @@ def pcapng_records(path):
 
 def check_decode_recording(sim, rtuscope):
     """--pcapng writes the same reads as --out, as a live recording holds them (one RTAC
-    DATA_RX_START record per read), and both files decode to the same records and report,
-    on a sick bus, per byte and through the USB model."""
-    for chunking in ("perbyte", "usb"):
+    DATA_RX_START record per read, the line and the timing resolution declared), and with
+    the resolution pinned (--resolution-ms: a declared one may be raised by what the frames
+    show, an estimated one starts elsewhere) both files decode to the same records and
+    report, on a sick bus, per byte and through the USB model."""
+    for chunking, resolution in (("perbyte", "0.001000 ms"), ("usb", "16 ms")):
         name = f"recording_{chunking}"
         p = sim.run(name, "--seed", "17", "--transactions", "400", "--profile", "heavy",
                     "--faults", "0.4", "--chunking", chunking, "--baud", "19200")
@@ -527,11 +529,15 @@ def check_decode_recording(sim, rtuscope):
             expect(link == 250 and stamp == t and event == 2 and payload == bytes(data),
                    f"{name}: the read at {t} ns recorded as link {link}, time {stamp}, "
                    f"event {event}, {payload.hex()}")
+        description = open(recording, "rb").read().decode("latin-1")
+        expect(f"RS-485 19200 8E1; rtusim; timing resolution {resolution}" in description,
+               f"{name}: the interface does not declare the line and {resolution}")
         outputs = []
+        pinned = ["--resolution-ms", resolution.split()[0]]
         for path in (p["hex"], recording):
-            decoded = subprocess.run([rtuscope, "decode", path, "--format", "jsonl"],
+            decoded = subprocess.run([rtuscope, "decode", path, "--format", "jsonl", *pinned],
                                      check=True, capture_output=True, text=True).stdout
-            report = subprocess.run([rtuscope, "report", path, "--format", "json"],
+            report = subprocess.run([rtuscope, "report", path, "--format", "json", *pinned],
                                     check=True, capture_output=True, text=True).stdout
             capture, *rest = decoded.splitlines()
             capture = json.loads(capture)

@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   app.add_option("--saleae", saleae_path, "Saleae Logic 2 data-table export to write (FILE.csv)");
   app.add_option("--pcapng", pcapng_path,
                  "the same reads as --out, recorded as `rtuscope live -w` records them "
-                 "(FILE.pcapng; no timing resolution or timeout declared)");
+                 "(FILE.pcapng; the timing resolution declared, no response timeout)");
   app.add_option("--chunking", chunking, "perbyte: one byte per line; usb: FTDI-like reads")
       ->check(CLI::IsMember({"perbyte", "usb"}));
   app.add_option("--seed", seed, "random seed; same seed and options give identical files");
@@ -190,6 +190,9 @@ int main(int argc, char** argv) {
 
     if (!out_path.empty() || !pcapng_path.empty()) {
       std::vector<OutputChunk> chunks;
+      // What a live run would declare: the adapter's latency timer; for reads of one byte
+      // each, stamped exactly, the finest resolution rtuscope takes (1 µs).
+      rtu::Nanos resolution = rtu::kNanosPerMicro;
       if (chunking == "usb") {
         UsbAdapterModel model;
         model.latency = seconds_to_nanos(latency_ms / 1e3);
@@ -197,6 +200,7 @@ int main(int argc, char** argv) {
         model.jitter = seconds_to_nanos(jitter_us / 1e6);
         model.usb_frame = seconds_to_nanos(usb_frame_us / 1e6);
         chunks = chunk_usb(timeline.bytes(), model, Rng(seed).fork(kUsbStream));
+        resolution = model.latency;
       } else {
         chunks = chunk_per_byte(timeline.bytes());
       }
@@ -205,7 +209,7 @@ int main(int argc, char** argv) {
         write_hex_capture(out, opt.line, command, timeline.bytes(), chunks);
       }
       if (!pcapng_path.empty()) {
-        write_read_recording(pcapng_path, opt.line, timeline.bytes(), chunks);
+        write_read_recording(pcapng_path, opt.line, resolution, timeline.bytes(), chunks);
       }
     }
     if (!saleae_path.empty()) {

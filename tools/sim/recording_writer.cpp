@@ -1,21 +1,27 @@
 #include "recording_writer.hpp"
 
+#include <fmt/format.h>
+
 #include <memory>
 #include <vector>
 
 #include "capture/byte_output.hpp"
 #include "capture/pcap_format.hpp"
+#include "capture/pcap_import.hpp"
 #include "capture/pcapng_writer.hpp"
 #include "capture/rtac_serial.hpp"
 
 namespace rtu::sim {
 
-void write_read_recording(const std::string& path, const LineSettings& line,
+void write_read_recording(const std::string& path, const LineSettings& line, Nanos resolution,
                           std::span<const WireByte> bytes, std::span<const OutputChunk> chunks) {
   PcapngWriter writer(std::make_unique<FileOutput>(path));
-  // The line in the words a live recording uses, so a replay takes it from the file.
-  const std::uint32_t interface = writer.add_interface(
-      {pcap::kLinkTypeRtacSerial, "rtusim", "RS-485 " + line.describe() + "; rtusim", 9, 0});
+  // In the words of a live recording's description, which a replay takes them from.
+  const std::uint32_t interface =
+      writer.add_interface({pcap::kLinkTypeRtacSerial, "rtusim",
+                            fmt::format("RS-485 {}; rtusim; timing resolution {}", line.describe(),
+                                        milliseconds_text(resolution)),
+                            9, 0});
   std::vector<std::uint8_t> read;
   std::vector<std::uint8_t> record;
   for (const OutputChunk& chunk : chunks) {

@@ -93,6 +93,7 @@ TrafficStats::TrafficStats(const dissect::DeviceTable* devices) : devices_(devic
 
 void TrafficStats::on_capture(const CaptureInfo& info) {
   info_ = info;
+  char_time_ = info.line.char_time();
   echoes_.set_window(info.line.t3_5() + info.timing_resolution);
 }
 
@@ -193,7 +194,7 @@ void TrafficStats::on_record(Record& r) {
   totals_.issues.add(r.issues);
   timeline_.at(r.t_start).issues.add(r.issues);
   // The line is busy for exactly size × character time, whatever the timestamps' blur.
-  const Nanos busy = static_cast<Nanos>(r.size) * info_.line.char_time();
+  const Nanos busy = static_cast<Nanos>(r.size) * char_time_;
   totals_.busy_ns += static_cast<double>(busy);
   timeline_.spread(r.t_end - busy, r.t_end, [busy](TrafficBucket& b, double share) {
     b.busy_ns += share * static_cast<double>(busy);

@@ -215,7 +215,10 @@ class TrafficStats : public RecordSink {
   // The capture's description once the whole capture was read, where it was surveyed while
   // being decoded (decode_and_survey): the same settings as on_capture gave, now with the
   // warnings and the per-byte timing only the whole capture tells.
-  void complete_capture(const CaptureInfo& info) { info_ = info; }
+  void complete_capture(const CaptureInfo& info) {
+    info_ = info;
+    char_time_ = info.line.char_time();
+  }
   // What identification looked at, where it ran (the models it named are in the devices).
   void note_identification(const IdentificationSample& sample) { identification_ = sample; }
 
@@ -296,6 +299,8 @@ class TrafficStats : public RecordSink {
 
   const dissect::DeviceTable* devices_;
   CaptureInfo info_;
+  // info_.line.char_time(), kept: it divides, and each record's busy time needs it.
+  Nanos char_time_ = info_.line.char_time();
   std::optional<IdentificationSample> identification_;
   Totals totals_;
   std::array<std::unique_ptr<SlaveStats>, 256> slaves_{};

@@ -14,6 +14,7 @@
 #include "capture/open_capture.hpp"
 #include "capture/read_ahead.hpp"
 #include "core/input_error.hpp"
+#include "core/thread_priority.hpp"
 #include "framing/framer.hpp"
 #include "framing/timing_estimator.hpp"
 #include "pairing/transaction_tracker.hpp"
@@ -318,7 +319,11 @@ class DecodingRun {
           std::make_unique<ReadAhead>(std::move(reader), ReadAheadOptions{.alongside = alongside});
       return;
     }
-    if (survey.single_byte_reads || options.parse_ahead) {
+    // A caller's parse_ahead asks for a third thread to share two cores: on one, the handoff
+    // to it only costs (one core, medians of 9 reports: 2,000,000 recorded USB frames 0.84 ->
+    // 0.81 s, the same as text hex 0.90 -> 0.83 s). Not so for one-byte reads, which reach
+    // the framing in runs only through it (500,000 per-byte frames: 0.25 -> 0.37 s without).
+    if (survey.single_byte_reads || (options.parse_ahead && usable_cores() > 1)) {
       // `alongside` goes with the parsing: framing is the busiest of the three threads
       // (callgrind, per-byte hex: parsing 204 M instructions, framing 395 M, pairing and
       // statistics 108 M), and the survey's 47 M moved off it took a tenth off the wall

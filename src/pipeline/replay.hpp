@@ -68,7 +68,7 @@ struct ReplayOptions {
   // FramingAhead), as it always does where reads hold one byte. Three threads on two cores
   // pay where the sink's work is less than parsing and framing together (a report from a
   // live recording: 11-16% less wall time), not where the sink writes every record (decode:
-  // 6% more).
+  // 6% more), nor where only one core is usable (then asking has no effect).
   bool parse_ahead = false;
 };
 

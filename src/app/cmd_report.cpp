@@ -118,9 +118,6 @@ void setup_report(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     const CaptureOpener capture = capture_opener(capture_inputs(args->files));
     ReplayOptions options = args->line.to_replay_options();
-    // Statistics cost the decoding core less than parsing and framing cost the other: the
-    // parsing gets a thread of its own. Not when a CSV writes every value as it goes.
-    options.parse_ahead = args->csv.empty();
     auto devices = args->devices.build_with_maps(options);
     // The report is written at the end, so only a CSV on standard output competes with the line.
     ProgressLine progress(progress_wanted(args->quiet, args->csv));

@@ -14,7 +14,6 @@
 #include "capture/open_capture.hpp"
 #include "capture/read_ahead.hpp"
 #include "core/input_error.hpp"
-#include "core/thread_priority.hpp"
 #include "framing/framer.hpp"
 #include "framing/timing_estimator.hpp"
 #include "pairing/transaction_tracker.hpp"
@@ -303,9 +302,13 @@ constexpr std::size_t kThreadsParsingAhead = 3;
 // How one decoding pass is laid over the threads. Framing runs on the reading thread
 // (FramingAhead) unless the caller keeps it on this one (ReplayOptions::frame_ahead, for
 // reads of more than one byte). Where reads hold one byte each, parsing costs as much as
-// framing, and where the caller asks (ReplayOptions::parse_ahead): the reader then runs in a
-// ReadAhead of its own inside the FramingAhead. `alongside` (optional) sees every item on the
-// parsing thread where there is one, else on the thread that frames them.
+// framing: the reader then runs in a ReadAhead of its own inside the FramingAhead. Reads of
+// several bytes parse on the framing thread: a third thread for them no longer pays, on two
+// cores or one (reports, medians of 9 interleaved runs, 2,000,000 USB frames recorded as a
+// live run records them: two cores 0.51 -> 0.45 s, one core 0.84 -> 0.81 s; the same frames
+// from text hex and from `export --raw`'s pcapng unchanged on two cores, 0.90 -> 0.83 s from
+// text hex on one). `alongside` (optional) sees every item on the parsing thread where there
+// is one, else on the thread that frames them.
 class DecodingRun {
  public:
   DecodingRun(std::unique_ptr<CaptureReader> reader, const CaptureSurvey& survey,
@@ -319,11 +322,9 @@ class DecodingRun {
           std::make_unique<ReadAhead>(std::move(reader), ReadAheadOptions{.alongside = alongside});
       return;
     }
-    // A caller's parse_ahead asks for a third thread to share two cores: on one, the handoff
-    // to it only costs (one core, medians of 9 reports: 2,000,000 recorded USB frames 0.84 ->
-    // 0.81 s, the same as text hex 0.90 -> 0.83 s). Not so for one-byte reads, which reach
-    // the framing in runs only through it (500,000 per-byte frames: 0.25 -> 0.37 s without).
-    if (survey.single_byte_reads || (options.parse_ahead && usable_cores() > 1)) {
+    // One-byte reads reach the framing in runs only through the ReadAhead (500,000 per-byte
+    // frames on one core: 0.37 s without it, 0.23 s with).
+    if (survey.single_byte_reads) {
       // `alongside` goes with the parsing: framing is the busiest of the three threads
       // (callgrind, per-byte hex: parsing 204 M instructions, framing 395 M, pairing and
       // statistics 108 M), and the survey's 47 M moved off it took a tenth off the wall

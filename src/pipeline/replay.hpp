@@ -64,12 +64,6 @@ struct ReplayOptions {
   // export: about 0.8 -> 0.64 s wall for 1,000,000 frames on two cores). The records are
   // the same either way.
   bool frame_ahead = true;
-  // With frame_ahead: the reader also parses on a thread of its own (a ReadAhead inside the
-  // FramingAhead), as it always does where reads hold one byte. Three threads on two cores
-  // pay where the sink's work is less than parsing and framing together (a report from a
-  // live recording: 11-16% less wall time), not where the sink writes every record (decode:
-  // 6% more), nor where only one core is usable (then asking has no effect).
-  bool parse_ahead = false;
 };
 
 // Records between two progress calls: a clock read per call stays off the hot path.

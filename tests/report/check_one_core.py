@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""`rtuscope report` lays its work over fewer threads where only one core is usable (no
-parsing thread of its own for reads of several bytes: the handoff to it only costs there).
-The report must not change: every bundled capture, its raw export (a live recording's
-format) and a simulated USB recording are reported on all the cores and under
-`taskset -c 0`, and standard output, standard error and the exit status must be identical.
+"""`rtuscope report` spreads its stages over threads that share the usable cores, and the
+scheduling differs with their number (a parsing thread yields its priority where the threads
+outnumber the cores). The report must not: every bundled capture, its raw export (a live
+recording's format) and a simulated heavy USB recording are reported on all the cores and
+under `taskset -c 0`, and standard output, standard error and the exit status must be
+identical.
 
   check_one_core.py RTUSCOPE RTUSIM SOURCE_DIR
 """

@@ -68,10 +68,23 @@ std::optional<Nanos> parse_timeout_description(std::string_view text) {
   return parse_milliseconds_after(text, "response timeout ");
 }
 
+namespace {
+
+// "16 ms", "0.500000 ms": exact, and what parse_milliseconds_after reads back.
 std::string milliseconds_text(Nanos t) {
   return t % kNanosPerMilli == 0
              ? fmt::format("{} ms", t / kNanosPerMilli)
              : fmt::format("{}.{:06} ms", t / kNanosPerMilli, t % kNanosPerMilli);
+}
+
+}  // namespace
+
+std::string recording_description(const LineSettings& line, std::string_view source,
+                                  Nanos resolution, std::optional<Nanos> response_timeout) {
+  std::string text = fmt::format("RS-485 {}; {}; timing resolution {}", line.describe(), source,
+                                 milliseconds_text(resolution));
+  if (response_timeout) text += "; response timeout " + milliseconds_text(*response_timeout);
+  return text;
 }
 
 std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string_view key) {

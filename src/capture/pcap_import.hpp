@@ -21,6 +21,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -104,9 +105,11 @@ class PcapImporter {
   std::vector<std::uint32_t> port_interfaces_;  // index = port
 };
 
-// "16 ms", "0.500000 ms": a duration exactly, as interface descriptions declare it and
-// parse_milliseconds_after reads it back.
-std::string milliseconds_text(Nanos t);
+// "RS-485 9600 8E1; <source>; timing resolution 16 ms[; response timeout 1000 ms]": what a
+// recording's interface declares of its capture, in the words the functions below read back
+// (durations exactly: "0.500000 ms"). `source` names what recorded it, e.g. "rtuscope live".
+std::string recording_description(const LineSettings& line, std::string_view source,
+                                  Nanos resolution, std::optional<Nanos> response_timeout);
 // "<key><ms> ms" anywhere in `text`, e.g. key "timing resolution " and "16.000 ms".
 std::optional<Nanos> parse_milliseconds_after(std::string_view text, std::string_view key);
 // "timing resolution 16.000 ms" anywhere in `text`.

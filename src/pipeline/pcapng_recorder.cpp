@@ -78,9 +78,8 @@ void PcapngRecorder::add_port(std::size_t port, const std::string& name, const L
                               const SerialStatus& status, Nanos response_timeout) {
   if (ports_.size() <= port) ports_.resize(port + 1);
   ports_[port].name = name;
-  ports_[port].description = fmt::format(
-      "RS-485 {}; rtuscope live; timing resolution {}; response timeout {}", line.describe(),
-      milliseconds_text(status.resolution), milliseconds_text(response_timeout));
+  ports_[port].description =
+      recording_description(line, "rtuscope live", status.resolution, response_timeout);
   if (!bus_name_.empty()) ports_[port].description += fmt::format("; bus {}", bus_name_);
   if (writer_) {
     // A port added late (never happens in LiveCapture, which adds all first).

@@ -1,8 +1,7 @@
 #include "recording_writer.hpp"
 
-#include <fmt/format.h>
-
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "capture/byte_output.hpp"
@@ -16,12 +15,10 @@ namespace rtu::sim {
 void write_read_recording(const std::string& path, const LineSettings& line, Nanos resolution,
                           std::span<const WireByte> bytes, std::span<const OutputChunk> chunks) {
   PcapngWriter writer(std::make_unique<FileOutput>(path));
-  // In the words of a live recording's description, which a replay takes them from.
+  // Declared as a live recording declares them, so a replay takes them from the file.
   const std::uint32_t interface =
       writer.add_interface({pcap::kLinkTypeRtacSerial, "rtusim",
-                            fmt::format("RS-485 {}; rtusim; timing resolution {}", line.describe(),
-                                        milliseconds_text(resolution)),
-                            9, 0});
+                            recording_description(line, "rtusim", resolution, std::nullopt), 9, 0});
   std::vector<std::uint8_t> read;
   std::vector<std::uint8_t> record;
   for (const OutputChunk& chunk : chunks) {

@@ -92,8 +92,7 @@ void PointBucket::merge(const PointBucket& o) {
 TrafficStats::TrafficStats(const dissect::DeviceTable* devices) : devices_(devices) {}
 
 void TrafficStats::on_capture(const CaptureInfo& info) {
-  info_ = info;
-  char_time_ = info.line.char_time();
+  set_capture(info);
   echoes_.set_window(info.line.t3_5() + info.timing_resolution);
 }
 

@@ -215,10 +215,7 @@ class TrafficStats : public RecordSink {
   // The capture's description once the whole capture was read, where it was surveyed while
   // being decoded (decode_and_survey): the same settings as on_capture gave, now with the
   // warnings and the per-byte timing only the whole capture tells.
-  void complete_capture(const CaptureInfo& info) {
-    info_ = info;
-    char_time_ = info.line.char_time();
-  }
+  void complete_capture(const CaptureInfo& info) { set_capture(info); }
   // What identification looked at, where it ran (the models it named are in the devices).
   void note_identification(const IdentificationSample& sample) { identification_ = sample; }
 
@@ -298,6 +295,11 @@ class TrafficStats : public RecordSink {
   void bridge_glitch(const Record& glitch);
 
   const dissect::DeviceTable* devices_;
+  // The capture's description and what each record needs of it, set together.
+  void set_capture(const CaptureInfo& info) {
+    info_ = info;
+    char_time_ = info.line.char_time();
+  }
   CaptureInfo info_;
   // info_.line.char_time(), kept: it divides, and each record's busy time needs it.
   Nanos char_time_ = info_.line.char_time();

@@ -565,6 +565,13 @@ Framer::Verdict Framer::decide_head(bool at_end) {
       }
       if (p == n) break;
     }
+    if (!at_end && n - p < kMinAdu) {
+      // Too few bytes for any frame, here and at every start after it: each search would
+      // only say "wait" (confirmed_length()). Per-byte reads of bytes that form nothing
+      // asked that of the last three starts at every byte.
+      if (first_pending == 0) first_pending = p;
+      break;
+    }
     bool pending = false;
     if (settled_or_confirmed_length(p, at_end, &pending) > 0) {
       scan_resume_ = 1;

@@ -44,6 +44,7 @@ class BusBuilder {
   // Appends bytes after `silence` of idle line; bytes follow back to back.
   BusBuilder& add(const std::vector<std::uint8_t>& bytes, Nanos silence) {
     Nanos t = end_ + silence;
+    added_.push_back(bytes_.size());
     for (const auto b : bytes) {
       bytes_.push_back(b);
       t += line_.char_time();
@@ -61,6 +62,23 @@ class BusBuilder {
       c.t_end = ends_[i];
       c.bytes = std::span(bytes_).subspan(i, 1);
       c.origin = i + 1;
+      out.push_back(c);
+    }
+    return out;
+  }
+
+  // One chunk per add(), stamped with the end of its last byte: a read per frame, as from a
+  // source whose reads the silences between frames cut.
+  [[nodiscard]] std::vector<Chunk> per_add() const {
+    std::vector<Chunk> out;
+    for (std::size_t k = 0; k < added_.size(); ++k) {
+      const std::size_t first = added_[k];
+      const std::size_t end = k + 1 < added_.size() ? added_[k + 1] : bytes_.size();
+      if (end == first) continue;
+      Chunk c;
+      c.t_end = ends_[end - 1];
+      c.bytes = std::span(bytes_).subspan(first, end - first);
+      c.origin = first + 1;
       out.push_back(c);
     }
     return out;
@@ -118,6 +136,7 @@ class BusBuilder {
   LineSettings line_;
   std::vector<std::uint8_t> bytes_;
   std::vector<Nanos> ends_;
+  std::vector<std::size_t> added_;  // where each add()'s bytes begin
   static constexpr Nanos kStart = 1 * kNanosPerSecond;
   Nanos end_ = kStart;
 };

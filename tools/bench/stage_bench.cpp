@@ -1,6 +1,6 @@
 // Throughput of the hot stages one at a time, so that an optimisation's gain can be measured
 // before and after on the stage it touches: time parsing, CRC, text hex reading, the line
-// check's survey of byte spacings, the framer,
+// check's survey of byte spacings, the framer (on polling and on random frames),
 // the tracker, the statistics, PDU decoding, the statistics' histograms, the report's whole
 // pass after the reader, and JSON writing.
 // Run: build/tools/bench/rtuscope_bench --benchmark_filter=Stage
@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -113,15 +114,10 @@ void BM_StageLineCheck(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(reads.size()));
 }
 
-// The framer alone on the polling traffic's reads (arg 0: one byte a read, 1: 16 ms USB
-// batches): what a replay's reading thread spends on finding frames.
-void BM_StageFramer(benchmark::State& state) {
-  const bool batched = state.range(0) != 0;
-  const auto bus = polling(2000);
-  const auto chunks = batched ? bus.batched(16 * kNanosPerMilli) : bus.per_byte();
-  FramerConfig config;
-  config.line = bus.line();
-  config.resolution = batched ? 16 * kNanosPerMilli : kNanosPerMicro;
+// A framer over `chunks` from the start, once per iteration; the frames it finds are the
+// items.
+void run_framer(benchmark::State& state, const FramerConfig& config,
+                const std::vector<Chunk>& chunks) {
   class Count final : public RecordSink {
    public:
     void on_record(Record& r) override { frames += r.kind == RecordKind::kFrame ? 1 : 0; }
@@ -133,6 +129,51 @@ void BM_StageFramer(benchmark::State& state) {
     framer.finish();
   }
   state.SetItemsProcessed(count.frames);
+}
+
+// The framer alone on the polling traffic's reads (arg 0: one byte a read, 1: 16 ms USB
+// batches): what a replay's reading thread spends on finding frames.
+void BM_StageFramer(benchmark::State& state) {
+  const bool batched = state.range(0) != 0;
+  const auto bus = polling(2000);
+  const auto chunks = batched ? bus.batched(16 * kNanosPerMilli) : bus.per_byte();
+  FramerConfig config;
+  config.line = bus.line();
+  config.resolution = batched ? 16 * kNanosPerMilli : kNanosPerMicro;
+  run_framer(state, config, chunks);
+}
+
+// CRC-valid frames of a random slave (0-255), a random function code (0-255) and 0-60 random
+// data bytes, four characters apart: traffic that no length rule frames, where every byte
+// may start a frame (tools/bench/random_frames.py writes the same kind for compare.sh).
+test::BusBuilder random_frames(int frames) {
+  test::BusBuilder bus;
+  std::mt19937 random(1);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_int_distribution<int> data_bytes(0, 60);
+  const Nanos pause = 4 * bus.line().char_time();
+  for (int i = 0; i < frames; ++i) {
+    std::vector<std::uint8_t> frame(2 + static_cast<std::size_t>(data_bytes(random)));
+    for (auto& b : frame) b = static_cast<std::uint8_t>(byte(random));
+    const std::uint16_t crc = crc16(frame);
+    frame.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
+    frame.push_back(static_cast<std::uint8_t>(crc >> 8U));
+    bus.add(frame, pause);
+  }
+  return bus;
+}
+
+// The framer alone on random frames (arg 0: one byte a read, 1: a read per frame), the
+// traffic that costs it the most per byte.
+void BM_StageFramerRandom(benchmark::State& state) {
+  const bool per_frame = state.range(0) != 0;
+  const auto bus = random_frames(2000);
+  const auto chunks = per_frame ? bus.per_add() : bus.per_byte();
+  FramerConfig config;
+  config.line = bus.line();
+  config.resolution = kNanosPerMicro;
+  run_framer(state, config, chunks);
+  state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(bus.size()));
 }
 
 // The records the framer makes of the polling traffic, before pairing.
@@ -285,6 +326,7 @@ BENCHMARK(BM_StageCrc16)->Arg(8)->Arg(256);
 BENCHMARK(BM_StageTextHexReader)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageLineCheck)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StageFramer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageFramerRandom)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageTracker)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageStatistics)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageDecodePdu);

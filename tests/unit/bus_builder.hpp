@@ -12,12 +12,14 @@
 
 namespace rtu::test {
 
-inline std::vector<std::uint8_t> with_crc(std::initializer_list<std::uint8_t> body) {
-  std::vector<std::uint8_t> adu(body);
+inline std::vector<std::uint8_t> with_crc(std::vector<std::uint8_t> adu) {
   const std::uint16_t crc = crc16(adu);
   adu.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
   adu.push_back(static_cast<std::uint8_t>(crc >> 8U));
   return adu;
+}
+inline std::vector<std::uint8_t> with_crc(std::initializer_list<std::uint8_t> body) {
+  return with_crc(std::vector<std::uint8_t>(body));
 }
 
 // One-byte reads (each chunk's byte and its stamp) side by side, as a per-byte replay hands

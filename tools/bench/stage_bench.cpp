@@ -13,6 +13,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bus_builder.hpp"
@@ -155,10 +156,7 @@ test::BusBuilder random_frames(int frames) {
   for (int i = 0; i < frames; ++i) {
     std::vector<std::uint8_t> frame(2 + static_cast<std::size_t>(data_bytes(random)));
     for (auto& b : frame) b = static_cast<std::uint8_t>(byte(random));
-    const std::uint16_t crc = crc16(frame);
-    frame.push_back(static_cast<std::uint8_t>(crc & 0xFFU));
-    frame.push_back(static_cast<std::uint8_t>(crc >> 8U));
-    bus.add(frame, pause);
+    bus.add(test::with_crc(std::move(frame)), pause);
   }
   return bus;
 }

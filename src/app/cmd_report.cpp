@@ -1,5 +1,7 @@
 // rtuscope report FILE... [--format text|json|html] [-o OUT] [--csv FILE]: statistics, timing
 // diagnostics and ranked findings for a whole capture, in bounded memory.
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -12,6 +14,7 @@
 #include "app/progress_line.hpp"
 #include "capture/capture_formats.hpp"
 #include "capture/capture_paths.hpp"
+#include "core/input_error.hpp"
 #include "core/output_stream.hpp"
 #include "dissect/device_stage.hpp"
 #include "pipeline/record_fanout.hpp"
@@ -40,7 +43,18 @@ struct ReportArgs {
 struct Analysis {
   std::unique_ptr<DeviceSetup> devices;
   std::unique_ptr<TrafficStats> stats;
+  // Where the input was damaged (the reader's message), empty if it was read to its end:
+  // the statistics then cover what precedes the damage.
+  std::string damage;
 };
+
+// What a report of a damaged capture says about it, among the capture's warnings.
+std::string damage_warning(const std::string& damage) {
+  return fmt::format(
+      "the capture could not be read to its end: {}; this report covers what "
+      "precedes that point",
+      damage);
+}
 
 // Identifies the slaves no option names (unless asked not to), then decodes the capture into
 // the statistics and the CSV. With `alongside`, `survey` is declared_survey's and the survey
@@ -66,7 +80,7 @@ std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& cap
                                           });
     }
   }
-  Analysis analysis{std::move(devices), nullptr};
+  Analysis analysis{std::move(devices), nullptr, {}};
   analysis.stats = std::make_unique<TrafficStats>(&analysis.devices->table);
   if (whole) analysis.stats->note_identification(*whole);
   RecordFanout sinks;
@@ -81,13 +95,24 @@ std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& cap
   dissect::DeviceStage stage(analysis.devices->table, sinks, true);
   progress.attach(options, "decoding");
   if (alongside) {
-    const std::optional<CaptureInfo> info = decode_and_survey(capture, survey, options, stage);
+    const std::optional<CaptureInfo> info =
+        decode_and_survey(capture, survey, options, stage, &analysis.damage);
     progress.erase();
     if (!info) return std::nullopt;
     analysis.stats->complete_capture(*info);
   } else {
-    decode_capture(capture, survey, options, stage);
+    try {
+      decode_capture(capture, survey, options, stage);
+    } catch (const InputError& error) {
+      // Every record before the damage was decoded and counted: the report still covers them.
+      analysis.damage = error.what();
+    }
     progress.erase();
+  }
+  if (!analysis.damage.empty()) {
+    CaptureInfo info = analysis.stats->capture();
+    info.warnings.push_back(damage_warning(analysis.damage));
+    analysis.stats->complete_capture(info);
   }
   if (csv) csv->flush();
   if (look) analysis.stats->note_identification(look->looked_at());
@@ -134,6 +159,11 @@ void setup_report(CLI::App& app, int& exit_code) {
     const std::vector<Finding> findings = find_problems(*analysis.stats);
     OutputStream out(args->output);
     find_format_or_default(report_formats(), args->format).factory(out, *analysis.stats, findings);
+    if (!analysis.damage.empty()) {
+      // The report is written; the damage still fails the command, as it fails decode.
+      out.flush();
+      throw InputError(fmt::format("{} (the report covers what precedes it)", analysis.damage));
+    }
     exit_code = 0;
   });
 }

@@ -465,7 +465,8 @@ void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
 }
 
 std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
-                                             const ReplayOptions& options, RecordSink& sink) {
+                                             const ReplayOptions& options, RecordSink& sink,
+                                             std::string* damage) {
   HeldWarnings passing;
   Survey alongside;
   DecodingRun run(open(passing.sink()), survey, options, &alongside);
@@ -482,8 +483,17 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
   };
   try {
     run.decode(sink, true);
+  } catch (const InputError& error) {
+    // The input's damage (the reader's: it ended with it): what precedes it was surveyed.
+    if (!run.ended()) throw;
+    const bool same = same_decoding(surveyed(), survey);
+    if (same) conclude();
+    if (damage == nullptr) throw;
+    if (!same) return std::nullopt;  // decoded again after survey_capture, up to the damage
+    *damage = error.what();
+    return survey.info;
   } catch (...) {
-    // The input's damage: what precedes it was surveyed.
+    // Any other failure of the reading: what precedes it was surveyed all the same.
     if (run.ended() && same_decoding(surveyed(), survey)) conclude();
     throw;
   }

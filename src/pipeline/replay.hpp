@@ -110,8 +110,12 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
 // nullopt (nothing shown) when the whole capture says to decode otherwise than its start did
 // (a response timeout declared only later): then what `sink` got is void, and the capture
 // is to be decoded again after survey_capture.
+// Damaged input throws InputError after every record before the damage was delivered; with
+// `damage` given, its message goes there instead and the info of what precedes it is
+// returned (a report of a capture cut short still covers all that was read).
 std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
-                                             const ReplayOptions& options, RecordSink& sink);
+                                             const ReplayOptions& options, RecordSink& sink,
+                                             std::string* damage = nullptr);
 
 // Decodes the capture once through `decode(survey, alongside)`: with declared_survey's survey
 // and the survey alongside (decode_and_survey) where the capture allows it and the caller

@@ -2,10 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <utility>
+#include <vector>
 
 #include "capture/byte_output.hpp"
+#include "capture/capture_set_gaps.hpp"
 #include "capture/pcap_format.hpp"
 #include "capture/pcap_import.hpp"
 #include "core/input_error.hpp"
@@ -24,6 +28,33 @@ RtacEvent event_for(std::uint8_t errors, RtacEvent data_event) {
 
 // Block overhead of an EPB without options, for the size limit (an estimate is enough).
 constexpr std::uint64_t kRecordOverhead = 32 + kRtacHeaderSize + 3;
+
+bool rotating(const RotationPolicy& rotation) {
+  return rotation.max_bytes != 0 || rotation.max_age != 0;
+}
+
+// The files of the rotation set at `path` (<stem>-N<ext> beside it) that exist already, by
+// number: a recorder started again (a restart after a power cut, the same command run once
+// more) goes on after the highest, where starting at 0001 again wrote over the first files
+// of the set and left it mixed with the ones after them.
+std::vector<std::pair<std::uint64_t, std::string>> existing_set_files(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+  const std::string stem = (p.parent_path() / p.stem()).string();
+  std::vector<std::pair<std::uint64_t, std::string>> found;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    // Named as beside `path` (not as the folder's listing spells it), so the stems compare.
+    const std::string file = (p.parent_path() / it->path().filename()).string();
+    const auto name = parse_rotation_name(file);
+    if (name && name->stem == stem && name->extension == p.extension().string() &&
+        name->digits >= 4) {
+      found.emplace_back(name->number, file);
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
 
 }  // namespace
 
@@ -55,7 +86,14 @@ RotationPolicy parse_rotation(const std::string& text) {
 }
 
 PcapngRecorder::PcapngRecorder(std::string path, RotationPolicy rotation)
-    : path_(std::move(path)), rotation_(rotation) {}
+    : path_(std::move(path)), rotation_(rotation) {
+  if (!rotating(rotation_)) return;
+  // The set's files from before count towards `keep` as this run's own do.
+  for (auto& [number, file] : existing_set_files(path_)) {
+    file_index_ = number;
+    kept_files_.push_back(std::move(file));
+  }
+}
 
 PcapngRecorder::PcapngRecorder(std::unique_ptr<ByteOutput> output, std::string name)
     : path_(std::move(name)), given_output_(std::move(output)) {}
@@ -91,7 +129,7 @@ void PcapngRecorder::add_port(std::size_t port, const std::string& name, const L
 
 void PcapngRecorder::open_file(Nanos t, bool append) {
   std::string path = path_;
-  if (rotation_.max_bytes != 0 || rotation_.max_age != 0) {
+  if (rotating(rotation_)) {
     const std::filesystem::path p(path_);
     path = (p.parent_path() /
             fmt::format("{}-{:04}{}", p.stem().string(), ++file_index_, p.extension().string()))
@@ -122,8 +160,7 @@ void PcapngRecorder::open_file(Nanos t, bool append) {
 void PcapngRecorder::reopen(Nanos t) {
   ++reopens_;
   if (!writer_ || !failure_.empty()) return;  // the first read opens the file anyway
-  const bool rotating = rotation_.max_bytes != 0 || rotation_.max_age != 0;
-  open_file(t, !rotating);
+  open_file(t, !rotating(rotation_));
 }
 
 void PcapngRecorder::add_comment(Nanos t, std::string_view text) {

@@ -18,6 +18,9 @@
 //
 // Rotation: with a size or age limit, files are named <stem>-0001<ext>, -0002, ...; each
 // holds its own header and interfaces; only the newest `keep` files are kept (0 = all).
+// Where files of the set exist already (a recorder started again), numbering goes on after
+// the highest of them, and they count towards `keep`: nothing recorded before is written
+// over, and the set stays in time order.
 // A new file starts only before a whole read (never between the records of one read, nor
 // between a lost-data event and the byte it flags), so the files read in time order as one
 // set (capture/capture_set_reader.hpp) decode exactly as one file would.

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -261,6 +262,55 @@ TEST(Rotation, NewFilesStartAtTheLimitAndOnlyTheNewestAreKept) {
   CapturePacket packet;
   ASSERT_TRUE(reader.next(packet));  // each file has its own header and interface
   EXPECT_EQ(packet.interface_name, "/dev/ttyX");
+  std::filesystem::remove_all(dir);
+}
+
+// A recorder started again over the same name (a restart after a power cut) goes on after
+// the highest number of the set, where it wrote over cap-0001 before; the set's older files
+// count towards `keep`, and files that only look alike are neither counted nor touched.
+TEST(Rotation, ARecorderStartedAgainGoesOnAfterTheSetsHighestNumber) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("rtuscope_rotate_again_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const Nanos t0 = 1'700'000'000 * kNanosPerSecond;
+  const auto record_seconds = [&](int first, int count, std::size_t keep) {
+    RotationPolicy policy = parse_rotation("1s");
+    policy.keep = keep;
+    PcapngRecorder recorder((dir / "cap.pcapng").string(), policy);
+    SerialStatus status;
+    status.resolution = kNanosPerMilli;
+    recorder.add_port(0, "/dev/ttyX", LineSettings{}, status, kNanosPerSecond);
+    const std::vector<std::uint8_t> bytes = {1, 2, 3};
+    for (int s = first; s < first + count; ++s) {
+      Chunk chunk;
+      chunk.t_end = t0 + s * kNanosPerSecond;
+      chunk.bytes = bytes;
+      recorder.on_chunk(0, chunk);
+    }
+    return recorder.files();
+  };
+  for (const char* other : {"cap-12.pcapng", "cap-notes.pcapng", "cap-0009.txt"}) {
+    std::ofstream(dir / other) << "not a recording\n";
+  }
+  EXPECT_EQ(record_seconds(0, 3, 0).back(), (dir / "cap-0003.pcapng").string());
+  const std::vector<std::string> again = record_seconds(10, 3, 4);
+  EXPECT_EQ(again, (std::vector<std::string>{(dir / "cap-0004.pcapng").string(),
+                                             (dir / "cap-0005.pcapng").string(),
+                                             (dir / "cap-0006.pcapng").string()}));
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    left.push_back(e.path().filename().string());
+  }
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"cap-0003.pcapng", "cap-0004.pcapng", "cap-0005.pcapng",
+                                            "cap-0006.pcapng", "cap-0009.txt", "cap-12.pcapng",
+                                            "cap-notes.pcapng"}));
+  // The first run's last file is as it wrote it: its read at second 2.
+  PcapReader reader((dir / "cap-0003.pcapng").string());
+  CapturePacket packet;
+  ASSERT_TRUE(reader.next(packet));
+  EXPECT_EQ(packet.t, t0 + 2 * kNanosPerSecond);
   std::filesystem::remove_all(dir);
 }
 

@@ -52,7 +52,8 @@ void print_summary(const LiveSummary& s) {
   if (s.late_reads != 0) {
     fmt::print(stderr,
                "rtuscope: {} reads came later than the timing resolution allows (the host "
-               "was busy or short of CPU): the silences next to them were not judged\n",
+               "was busy or short of CPU, or the bytes waited in the port before it was "
+               "opened): the silences next to them were not judged\n",
                s.late_reads);
   }
   if (s.timing_resolution > s.declared_resolution) {

@@ -65,6 +65,7 @@ const SerialStatus& SerialSource::open() {
   decoder_.reset();
   late_check_.restart(status_.resolution);
   quiet_seen_at_ = kUnknownTime;
+  queued_at_open_ = pending_input() > 0;
   return status_;
 }
 
@@ -189,6 +190,7 @@ std::size_t SerialSource::pending_input() {
 void SerialSource::discard_input() {
   if (port_.is_open()) ::tcflush(port_.native_handle(), TCIFLUSH);
   decoder_.reset();
+  queued_at_open_ = false;  // those bytes are gone: the next read's came after this
 }
 
 void SerialSource::note_free_moment() {
@@ -244,6 +246,15 @@ void SerialSource::on_read(const boost::system::error_code& error, std::size_t n
     chunk.t_end = t_end;
     chunk.read_late = late_check_.read_came_late();
     if (chunk.read_late) chunk.quiet_until = std::min(quiet_seen_at_, t_end);
+    if (queued_at_open_) {
+      // Bytes that waited in the port before it was opened (an adapter's FIFO, a reader
+      // before this one) came at times nothing tells: late by an unknown delay, as a read
+      // the host made late, so no silence is measured next to them (in a rotation set,
+      // none from the last byte of the recording before).
+      queued_at_open_ = false;
+      chunk.read_late = true;
+      chunk.quiet_until = kUnknownTime;
+    }
     chunk.bytes = bytes_;
     if (any_error) chunk.errors = errors_;
     chunk.origin = bytes_read_;

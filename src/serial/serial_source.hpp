@@ -124,6 +124,8 @@ class SerialSource {
   LateReadCheck late_check_{kHostReadResolution};
   // The latest moment the port was seen empty, on the capture clock.
   Nanos quiet_seen_at_ = kUnknownTime;
+  // Bytes were waiting in the port when it was opened: the first read takes them.
+  bool queued_at_open_ = false;
 };
 
 }  // namespace rtu

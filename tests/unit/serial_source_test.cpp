@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <pty.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -47,6 +48,14 @@ class Pty {
   Pty(const Pty&) = delete;
   Pty& operator=(const Pty&) = delete;
 
+  // Raw mode on the slave side before the source opens it, as a port left by a reader before:
+  // the pty's default line discipline would take control bytes (0x03 interrupts and flushes).
+  void make_raw() const {
+    termios t{};
+    ASSERT_EQ(::tcgetattr(slave_, &t), 0);
+    ::cfmakeraw(&t);
+    ASSERT_EQ(::tcsetattr(slave_, TCSANOW, &t), 0);
+  }
   void write(const std::vector<std::uint8_t>& bytes) const {
     ASSERT_EQ(::write(master_, bytes.data(), bytes.size()), static_cast<ssize_t>(bytes.size()));
   }
@@ -145,6 +154,38 @@ TEST(SerialSource, ChunkTimeIsTheClockReadAtReadCompletion) {
   // Anchor at mono 5.001 s; the moment the read was issued with no input pending is the
   // next reading (a late read would carry it), and the read is stamped with the one after.
   EXPECT_EQ(rx.times[0], SteppingClock::kWallOffset + 5 * kNanosPerSecond + 3 * kNanosPerMilli);
+}
+
+// Bytes that waited in the port before it was opened came at times nothing tells: the read
+// that takes them is marked late with no quiet moment known, so no silence is measured next
+// to them (a replay of a rotation set would otherwise measure one from the recording
+// before). The reads after it are judged as usual.
+TEST(SerialSource, BytesWaitingWhenThePortOpensAreReadAsLate) {
+  Pty pty;
+  pty.make_raw();
+  pty.write({0x11, 0x03, 0x00});  // before the source opens the port
+  SteppingClock clock;
+  CaptureClock capture_clock(clock);
+  boost::asio::io_context io;
+  SerialSource source(io, capture_clock, config_for(pty));
+  source.open();
+  std::vector<Chunk> chunks;
+  std::vector<std::vector<std::uint8_t>> bytes;
+  source.start(
+      [&](const Chunk& chunk) {
+        chunks.push_back(chunk);
+        bytes.emplace_back(chunk.bytes.begin(), chunk.bytes.end());
+      },
+      [](const std::error_code&) {});
+  run_until(io, [&] { return !chunks.empty(); });
+  ASSERT_EQ(chunks.size(), 1U);
+  EXPECT_EQ(bytes[0], (std::vector<std::uint8_t>{0x11, 0x03, 0x00}));
+  EXPECT_TRUE(chunks[0].read_late);
+  EXPECT_EQ(chunks[0].quiet_until, kUnknownTime);
+  pty.write({0x00});
+  run_until(io, [&] { return chunks.size() >= 2; });
+  ASSERT_EQ(chunks.size(), 2U);
+  EXPECT_FALSE(chunks[1].read_late);
 }
 
 TEST(SerialSource, NonStandardBaudRateIsSetExactly) {

@@ -56,7 +56,14 @@ std::optional<RotationName> parse_rotation_name(const std::string& path) {
 
 std::optional<std::string> missing_file_warning(const SetBoundary& boundary) {
   std::vector<std::string> reasons;
-  if (auto skipped = skipped_numbers(boundary.before, boundary.after)) {
+  const std::optional<std::string> skipped = skipped_numbers(boundary.before, boundary.after);
+  if (boundary.before_ended && !skipped) {
+    return fmt::format(
+        "{}: the recording stopped at the end of {} and started again {} s later: the bus "
+        "was not recorded in between",
+        boundary.after, boundary.before, seconds_text(boundary.silence));
+  }
+  if (skipped) {
     reasons.push_back(fmt::format("the rotation numbering skips {}", *skipped));
   }
   const Nanos usual = boundary.longest_within * kMissingSilenceFactor;

@@ -36,10 +36,14 @@ struct SetBoundary {
   Nanos silence = 0;   // from the earlier file's last record to the later file's first
   // The longest silence between records within either file (0 when neither has two).
   Nanos longest_within = 0;
+  // The earlier file ends with the recording's end (a recorder stopped, then started again).
+  bool before_ended = false;
 };
 
 // The warning for one boundary, naming both files and every reason; nothing when no file
-// seems to be missing there.
+// seems to be missing there. Where the earlier file ends with the recording's end and the
+// numbering goes on, nothing is missing: the warning says the recording stopped there and
+// for how long the bus went unrecorded.
 std::optional<std::string> missing_file_warning(const SetBoundary& boundary);
 
 }  // namespace rtu

@@ -28,6 +28,7 @@ struct CaptureSetReader::File {
   // While it is read:
   std::optional<Nanos> last;
   Nanos longest_silence = 0;  // between consecutive items (their timestamps)
+  bool ended = false;         // its last item so far is the recording's end
   // From the last item before it (of file `previous`) to its first.
   std::optional<Nanos> silence_before;
   std::size_t previous = 0;
@@ -52,9 +53,11 @@ class CaptureSetReader::Tap final : public CaptureConsumer {
   }
   void on_end(Nanos end) override {
     t = end;
+    ended = true;
     if (to_ != nullptr) to_->on_end(end);
   }
   Nanos t = 0;
+  bool ended = false;  // the item was the recording's end
 
  private:
   CaptureConsumer* to_;
@@ -132,6 +135,7 @@ bool CaptureSetReader::read(CaptureConsumer& to) {
     File& file = files_[index];
     if (file.last) file.longest_silence = std::max(file.longest_silence, tap.t - *file.last);
     file.last = tap.t;
+    file.ended = tap.ended;
     last_time_ = tap.t;
     last_file_ = index;
     const Nanos precision = current_->timestamp_precision();
@@ -234,6 +238,7 @@ std::vector<std::string> CaptureSetReader::capture_warnings() const {
       boundary.after = file.input.name;
       boundary.silence = *file.silence_before;
       boundary.longest_within = std::max(before.longest_silence, file.longest_silence);
+      boundary.before_ended = before.ended;
       if (auto warning = missing_file_warning(boundary)) out.push_back(std::move(*warning));
     }
     const bool reading = current_ && i + 1 == next_;

@@ -183,6 +183,15 @@ void Framer::finish() {
   flush_noise();
 }
 
+void Framer::break_capture() {
+  finish();
+  last_byte_end_ = kUnknownTime;
+  last_record_was_frame_ = false;
+  glitch_since_frame_ = kUnknownTime;
+  after_late_read_ = false;
+  expect_request();
+}
+
 void Framer::decide(bool at_end) {
   run_quiet_watch_on();
   while (buffered() > 0) {

@@ -95,6 +95,9 @@ class Framer {
   void push_without_shortcut(const Chunk& chunk);
   // End of input: everything still buffered is emitted.
   void finish();
+  // finish(), and the input goes on after an unknown time: the next byte shows no silence
+  // before it, and no frame is expected from what came before (a recorder started again).
+  void break_capture();
 
   // Expected next frame, from the framer's own reading of the bus (after a request, its
   // response); used only to break ties between equally valid readings.

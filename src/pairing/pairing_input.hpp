@@ -12,6 +12,10 @@ class PairingInput : public RecordSink {
  public:
   // No record can start before `now`.
   virtual void advance(Nanos now) = 0;
+  // The capture stopped and started again: a recording's end followed by another file of
+  // the set (a recorder started again). What was pending is decided as at the end of a
+  // capture, and nothing before pairs with anything after.
+  virtual void on_break() = 0;
 };
 
 }  // namespace rtu

@@ -175,6 +175,18 @@ void TransactionTracker::release_timed_out() {
 }
 
 void TransactionTracker::on_finish() {
+  end_exchange();
+  out_.on_finish();
+}
+
+void TransactionTracker::on_break() {
+  end_exchange();
+  has_open_ = false;  // what comes after the break answers nothing before it
+  answered_ = false;
+  released_ = false;
+}
+
+void TransactionTracker::end_exchange() {
   if (awaiting_answer() && last_time_ != kUnknownTime &&
       last_time_ - open_.t_end > config_.response_timeout) {
     close_open(true);
@@ -182,7 +194,6 @@ void TransactionTracker::on_finish() {
     // The capture ended before the timeout ran out: no verdict.
     release_held();
   }
-  out_.on_finish();
 }
 
 }  // namespace rtu

@@ -35,6 +35,7 @@ class TransactionTracker final : public PairingInput {
   void on_capture(const CaptureInfo& info) override { out_.on_capture(info); }
   void on_record(Record& record) override;
   void on_finish() override;
+  void on_break() override;
   // No record can start before `now`: a request whose response timeout ran out before it
   // is released as timed out. An answer that still comes is flagged `late`, with no txn
   // (its request has already gone out unmatched); one that comes after the timeout with
@@ -56,6 +57,9 @@ class TransactionTracker final : public PairingInput {
   void handle_response(Record& frame);
   void close_open(bool timed_out);
   // The open request's response timeout ran out: it leaves now, with what it held back.
+  // The capture ends (or breaks): the open request leaves with what it held, timed out if
+  // the last record came after its timeout ran out, else without a verdict.
+  void end_exchange();
   void release_timed_out();
   void emit(Record& record);
   void release_held();

@@ -13,12 +13,14 @@ CaptureFeed::CaptureFeed(DecodePipeline& pipeline, bool use_chunks, Nanos char_t
 
 void CaptureFeed::on_chunk(const Chunk& chunk) {
   ++items_;
+  after_end();
   if (!use_chunks_) return;
   if (on_chunk_) on_chunk_(chunk);
   pipeline_.push(chunk);
 }
 
 void CaptureFeed::on_byte_reads(const ByteReads& reads) {
+  after_end();
   if (!use_chunks_ || on_chunk_) {
     CaptureConsumer::on_byte_reads(reads);  // each read seen on its own
     return;
@@ -29,6 +31,7 @@ void CaptureFeed::on_byte_reads(const ByteReads& reads) {
 
 void CaptureFeed::on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) {
   ++items_;
+  after_end();
   if (use_chunks_) return;
   t_start = on_free_line(t_start);
   line_free_at_ = t_end(adu, t_start);
@@ -38,6 +41,7 @@ void CaptureFeed::on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std
 void CaptureFeed::on_noise(std::span<const std::uint8_t> bytes, Nanos t_start,
                            std::uint64_t origin) {
   ++items_;
+  after_end();
   if (use_chunks_) return;
   t_start = on_free_line(t_start);
   line_free_at_ = t_end(bytes, t_start);

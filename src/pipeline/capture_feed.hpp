@@ -22,10 +22,12 @@ class CaptureFeed final : public CaptureConsumer {
   void on_frame(std::span<const std::uint8_t> adu, Nanos t_start, std::uint64_t origin) override;
   void on_noise(std::span<const std::uint8_t> bytes, Nanos t_start, std::uint64_t origin) override;
   // A live recording ends where the live run stopped: what was pending then (a request
-  // still waiting for its answer) is decided as live decided it.
+  // still waiting for its answer) is decided as live decided it. Items after it (the next
+  // file of a rotation set, from a recorder started again) come after a break.
   void on_end(Nanos t) override {
     ++items_;
     pipeline_.idle(t);
+    ended_ = true;
   }
   // Items delivered so far, each read of a run counted (for progress).
   [[nodiscard]] std::uint64_t items() const { return items_; }
@@ -35,6 +37,13 @@ class CaptureFeed final : public CaptureConsumer {
     return t_start + static_cast<Nanos>(bytes.size()) * char_time_;
   }
   [[nodiscard]] Nanos on_free_line(Nanos t_start) const;
+  // Before an item: after an end, the capture broke (see on_end()).
+  void after_end() {
+    if (!ended_) return;
+    ended_ = false;
+    pipeline_.break_capture();
+    line_free_at_ = kUnknownTime;
+  }
 
   DecodePipeline& pipeline_;
   bool use_chunks_;
@@ -42,6 +51,7 @@ class CaptureFeed final : public CaptureConsumer {
   std::function<void(const Chunk&)> on_chunk_;
   Nanos line_free_at_ = kUnknownTime;
   std::uint64_t items_ = 0;
+  bool ended_ = false;  // an end came, and no item since
 };
 
 }  // namespace rtu

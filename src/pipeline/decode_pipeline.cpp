@@ -335,4 +335,10 @@ void DecodePipeline::finish() {
   impl_->pairing.on_finish();
 }
 
+void DecodePipeline::break_capture() {
+  for (auto& framer : impl_->framers) framer->break_capture();
+  impl_->merge.flush();
+  impl_->pairing.on_break();
+}
+
 }  // namespace rtu

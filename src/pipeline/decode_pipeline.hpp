@@ -73,6 +73,10 @@ class DecodePipeline {
   [[nodiscard]] Nanos timing_resolution() const;
   // Flushes partial frames and open transactions.
   void finish();
+  // The capture stopped and goes on after an unknown time (a recording's end followed by
+  // another file): what is held is decided as finish() decides it, but the sink goes on,
+  // and the next bytes show no silence before them (none was observed).
+  void break_capture();
 
  private:
   // start() with what the options say, for input that comes before any start().

@@ -35,6 +35,15 @@ void FirstLookGate::advance(Nanos now) {
   looking_->advance(now);
 }
 
+void FirstLookGate::on_break() {
+  if (looking_ == nullptr) {
+    pairing_.on_break();
+    return;
+  }
+  held_.hold_break();
+  looking_->on_break();
+}
+
 void FirstLookGate::on_finish() {
   if (looking_ != nullptr) end_look(SampleEnd::kCaptureEnd);
   pairing_.on_finish();

@@ -18,6 +18,7 @@ class FirstLookGate final : public PairingInput {
   void on_record(Record& record) override;
   void advance(Nanos now) override;
   void on_finish() override;
+  void on_break() override;
 
  private:
   // The look is over: it concludes, and the pairing gets what was held.

@@ -14,7 +14,7 @@ namespace rtu {
 
 // One call the pairing is to get, in order.
 struct FramingAhead::Step {
-  enum class Kind : std::uint8_t { kCapture, kChunk, kRecord, kAdvance, kFinish };
+  enum class Kind : std::uint8_t { kCapture, kChunk, kRecord, kAdvance, kBreak, kFinish };
   Kind kind = Kind::kRecord;
   Nanos t = 0;            // kAdvance: decided until
   std::size_t index = 0;  // kChunk: into Batch::chunks; kRecord: into Batch::records
@@ -107,6 +107,11 @@ class FramingAhead::Handoff final : public PairingInput {
   void on_finish() override {
     tell_advance();
     batch_->steps.push_back(Step{Step::Kind::kFinish, 0, 0});
+  }
+  void on_break() override {
+    tell_advance();
+    batch_->steps.push_back(Step{Step::Kind::kBreak, 0, 0});
+    record_since_advance_ = true;  // an advance after it is told, whatever came before
   }
 
   // The advance held, as a step of its own; called before any step but a record, and at the
@@ -231,6 +236,7 @@ void FramingAhead::tell(Batch& batch, PairingInput& pairing) const {
         pairing.on_record(batch.records[step.index]);
         break;
       case Step::Kind::kAdvance: pairing.advance(step.t); break;
+      case Step::Kind::kBreak: pairing.on_break(); break;
       case Step::Kind::kFinish: pairing.on_finish(); break;
     }
   }

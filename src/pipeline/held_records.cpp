@@ -16,6 +16,8 @@ constexpr std::uint8_t kHasIssues = 1U << 3U;
 constexpr std::uint8_t kHasLineErrors = 1U << 4U;
 constexpr std::uint8_t kHasShapeFit = 1U << 5U;
 constexpr std::uint8_t kHasGap = 1U << 6U;
+// An entry of its own: the capture broke (no record entry sets kAdvance).
+constexpr std::uint8_t kBreak = kAdvance | (1U << 7U);
 
 // Numbers as 7 bits a byte, least significant first, the top bit saying more follow: ten
 // bytes at most for 64 bits.
@@ -87,6 +89,13 @@ void HeldRecords::hold_advance(Nanos now) {
   advance_pending_ = true;
 }
 
+void HeldRecords::hold_break() {
+  flush_advance();
+  std::uint8_t* at = room_for(1);
+  *at++ = kBreak;
+  commit(at);
+}
+
 void HeldRecords::hold(const Record& record) {
   static_assert(std::is_trivially_copyable_v<IssueSet>, "held as bytes");
   flush_advance();
@@ -125,6 +134,10 @@ void HeldRecords::tell(PairingInput& pairing) {
     const std::uint8_t* const end = at + used_[b];
     while (at < end) {
       const std::uint8_t flags = *at++;
+      if (flags == kBreak) {
+        pairing.on_break();
+        continue;
+      }
       if ((flags & kAdvance) != 0) {
         pairing.advance(time_of(unzigzag(get_varint(at), bits_of(last.t_end))));
         continue;

@@ -25,6 +25,8 @@ class HeldRecords {
   // No record can start before `now`. Consecutive decided times keep only the last: the
   // pairing's verdicts never depend on when it was told a time (TransactionTracker::advance).
   void hold_advance(Nanos now);
+  // The capture broke here (PairingInput::on_break).
+  void hold_break();
   // Tells `pairing` everything held, in order, and forgets it (its memory is given back).
   void tell(PairingInput& pairing);
 

@@ -90,6 +90,7 @@ class FrameCountingLook final : public rtu::FirstLook, public rtu::PairingInput 
     if (record.kind == rtu::RecordKind::kFrame) ++seen_;
   }
   void advance(rtu::Nanos /*now*/) override {}
+  void on_break() override {}
 
  private:
   std::uint64_t wanted_;

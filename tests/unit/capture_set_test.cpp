@@ -390,6 +390,74 @@ TEST(CaptureSet, MissingFileRules) {
   EXPECT_FALSE(parse_rotation_name("site-x1.pcapng"));
 }
 
+// Every field of `describe` but the numbering (a sequence number and a transaction number
+// count from 0 in each decoding).
+std::string describe_unnumbered(const Record& r) {
+  return fmt::format(
+      "{} t={} end={} gap={} bytes={:02x} errors={} fit={} crc={} issues={:x} "
+      "role={} paired={} latency={}",
+      static_cast<int>(r.kind), r.t_start, r.t_end, r.gap_before, fmt::join(r.bytes(), ""),
+      r.line_errors, r.shape_fit, r.crc_ok, r.issues.bits(), static_cast<int>(r.role), r.txn >= 0,
+      r.latency);
+}
+
+// A recorder stopped while a request waited (its end record written), then started again
+// over the same name: the set decodes as the two runs' recordings each decoded alone, one
+// after the other. The answer that waited in the port for the second run pairs with nothing
+// of the first (it was flagged a late answer of the first run's request before), and the
+// warning says the recording stopped rather than that a file is missing.
+TEST(CaptureSet, ARecorderStartedAgainBreaksTheCaptureAtItsEnd) {
+  TempDir dir;
+  RotationPolicy rotation;
+  rotation.max_age = 3600 * kNanosPerSecond;
+  std::vector<std::vector<std::uint8_t>> keep;
+  const auto run = [&](Nanos start, bool answer_first, int polls) {
+    BusBuilder bus;
+    if (answer_first) bus.add(with_crc({1, 0x03, 0x02, 0x00, 0x07}), 0);
+    for (int i = 0; i < polls; ++i) {
+      bus.add(with_crc({1, 0x03, 0x00, static_cast<std::uint8_t>(i), 0x00, 0x01}), 90 * kMs);
+      if (i + 1 < polls || answer_first) bus.add(with_crc({1, 0x03, 0x02, 0x00, 0x01}), 4 * kMs);
+    }
+    std::vector<Chunk> chunks = bus.per_add();
+    for (auto& chunk : chunks) {
+      keep.emplace_back(chunk.bytes.begin(), chunk.bytes.end());
+      chunk.bytes = keep.back();
+      chunk.t_end += start;
+    }
+    return record((dir.path() / "rec.pcapng").string(), chunks, rotation);
+  };
+  // The first run's last request is unanswered when it stops (0.5 s after it, see record()).
+  const std::vector<std::string> first = run(kWallClock, false, 5);
+  const std::vector<std::string> second = run(kWallClock + 2 * kNanosPerSecond, true, 5);
+  ASSERT_EQ(first, std::vector<std::string>{(dir.path() / "rec-0001.pcapng").string()});
+  ASSERT_EQ(second, std::vector<std::string>{(dir.path() / "rec-0002.pcapng").string()});
+
+  Decoded set;
+  decode({first[0], second[0]}, set);
+  Decoded alone_first;
+  decode(first, alone_first);
+  Decoded alone_second;
+  decode(second, alone_second);
+  std::vector<std::string> expected;
+  for (const auto& r : alone_first.sink.records) expected.push_back(describe_unnumbered(r));
+  for (const auto& r : alone_second.sink.records) expected.push_back(describe_unnumbered(r));
+  std::vector<std::string> got;
+  for (const auto& r : set.sink.records) got.push_back(describe_unnumbered(r));
+  EXPECT_EQ(got, expected);
+  // The second run's first record: the answer that waited in the port.
+  ASSERT_GT(set.sink.records.size(), alone_first.sink.records.size());
+  const Record* answer = &set.sink.records[alone_first.sink.records.size()];
+  ASSERT_EQ(answer->role, Role::kResponse);
+  EXPECT_TRUE(answer->issues.has(IssueId::kUnsolicited));
+  EXPECT_FALSE(answer->issues.has(IssueId::kLate));
+  EXPECT_EQ(answer->txn, -1);
+  const std::vector<std::string>& warnings = set.info.warnings;
+  ASSERT_EQ(warnings.size(), 1U) << fmt::format("{}", fmt::join(warnings, " | "));
+  EXPECT_NE(warnings[0].find("rec-0002.pcapng: the recording stopped at the end of "),
+            std::string::npos)
+      << warnings[0];
+}
+
 TEST(CaptureSet, PatternsAreExpandedByRtuscope) {
   TempDir dir;
   const auto a = dir.write("site-0001.pcapng", "x");

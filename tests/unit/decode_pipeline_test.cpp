@@ -30,6 +30,7 @@ class DecidedTranscript final : public PairingInput {
                                 r.gap_before, r.origin, r.issues.bits(), fmt::join(r.bytes(), "")));
   }
   void on_finish() override { lines.push_back(fmt::format("finish decided={}", decided_)); }
+  void on_break() override { lines.emplace_back("break"); }
 
   std::vector<std::string> lines;
 

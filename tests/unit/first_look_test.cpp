@@ -34,6 +34,7 @@ class Lines final : public PairingInput {
   }
   void advance(Nanos now) override { lines.push_back(fmt::format("advance {}", now)); }
   void on_finish() override { lines.emplace_back("finish"); }
+  void on_break() override { lines.emplace_back("break"); }
 
   std::vector<std::string> lines;
   std::uint64_t frames = 0;
@@ -96,6 +97,10 @@ TEST(HeldRecords, TellsEveryRecordAsHeldWithTheLastOfEachRunOfDecidedTimes) {
     for (std::uint64_t k = 0; k < seq % 3; ++k)
       held.hold_advance(r.t_end + 10 + static_cast<Nanos>(k));
     if (seq % 3 != 0) expected.advance(r.t_end + 10 + static_cast<Nanos>(seq % 3) - 1);
+    if (seq % 100 == 50) {  // a break comes after the decided time before it
+      held.hold_break();
+      expected.on_break();
+    }
   }
   EXPECT_GT(held.bytes_held(), 3000U * 56);  // several blocks' worth
   Lines told;

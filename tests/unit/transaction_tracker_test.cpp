@@ -81,6 +81,39 @@ TEST(TransactionTracker, ResponseWithNoOpenRequestIsUnsolicited) {
   EXPECT_TRUE(sink.records[0].issues.has(IssueId::kUnsolicited));
 }
 
+// A break (a recorder stopped and started again): the request open at it leaves without a
+// verdict, as at the end of a capture, and the answer after it pairs with nothing; a
+// request after the break pairs as usual.
+TEST(TransactionTracker, NothingPairsAcrossABreak) {
+  BusBuilder before;
+  before.add(kRead, 0);
+  BusBuilder after;
+  after.add(kReadAnswer, 0).add(kRead, 50 * kMs).add(kReadAnswer, 20 * kMs);
+  CollectingSink sink;
+  PipelineOptions options;
+  options.line = before.line();
+  options.timing_resolution = 16 * kMs;
+  DecodePipeline pipeline(options, sink);
+  for (const auto& c : before.batched(16 * kMs)) pipeline.push(c);
+  pipeline.break_capture();
+  for (auto c : after.batched(16 * kMs)) {
+    c.t_end += 100 * kMs;  // within the response timeout of the request before the break
+    pipeline.push(c);
+  }
+  pipeline.finish();
+  ASSERT_EQ(sink.records.size(), 4U);
+  EXPECT_EQ(sink.records[0].role, Role::kRequest);
+  EXPECT_FALSE(sink.records[0].issues.has(IssueId::kTimeout));
+  EXPECT_EQ(sink.records[0].txn, -1);
+  EXPECT_EQ(sink.records[1].role, Role::kResponse);
+  EXPECT_TRUE(sink.records[1].issues.has(IssueId::kUnsolicited));
+  EXPECT_EQ(sink.records[1].txn, -1);
+  EXPECT_EQ(sink.records[1].gap_before, kUnknownTime) << "no silence was observed across it";
+  EXPECT_GE(sink.records[2].txn, 0);
+  EXPECT_EQ(sink.records[2].txn, sink.records[3].txn);
+  EXPECT_TRUE(sink.finished);
+}
+
 TEST(TransactionTracker, ResponseFromAnotherSlaveIsPairedAndFlagged) {
   BusBuilder bus;
   bus.add(kRead, 0).add(kAnswerSlave2, 20 * kMs);

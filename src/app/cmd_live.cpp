@@ -173,8 +173,10 @@ void setup_live(CLI::App& app, int& exit_code) {
   cmd->add_option("-w,--write", args->write_path,
                   "Record every read, exactly as read, to this pcapng file (LINKTYPE 250)");
   cmd->add_option("--rotate", args->rotate,
-                  "Start a new file at this size or age (e.g. 100MB, 1h); files get -0001, ...");
-  cmd->add_option("--keep", args->keep, "With --rotate: keep only the newest N files");
+                  "Start a new file at this size or age (e.g. 100MB, 1h); files get -0001, ..., "
+                  "going on after the highest number already there");
+  cmd->add_option("--keep", args->keep,
+                  "With --rotate: keep only the newest N files (the set's older ones count too)");
   cmd->add_option("--report", args->report,
                   "When the run stops, write its traffic report to this file (as `rtuscope "
                   "report` would) and list the main findings");

@@ -44,16 +44,15 @@ struct Analysis {
   std::unique_ptr<DeviceSetup> devices;
   std::unique_ptr<TrafficStats> stats;
   // Where the input was damaged (the reader's message), empty if it was read to its end:
-  // the statistics then cover what precedes the damage.
+  // the statistics then cover what could be read (up to the damage; in a set of files, the
+  // files after a damaged one too).
   std::string damage;
 };
 
 // What a report of a damaged capture says about it, among the capture's warnings.
 std::string damage_warning(const std::string& damage) {
   return fmt::format(
-      "the capture could not be read to its end: {}; this report covers what "
-      "precedes that point",
-      damage);
+      "the capture is damaged: {}; this report covers every record that could be read", damage);
 }
 
 // Identifies the slaves no option names (unless asked not to), then decodes the capture into
@@ -162,7 +161,8 @@ void setup_report(CLI::App& app, int& exit_code) {
     if (!analysis.damage.empty()) {
       // The report is written; the damage still fails the command, as it fails decode.
       out.flush();
-      throw InputError(fmt::format("{} (the report covers what precedes it)", analysis.damage));
+      throw InputError(
+          fmt::format("{} (the report covers every record that could be read)", analysis.damage));
     }
     exit_code = 0;
   });

@@ -123,11 +123,26 @@ CaptureSetReader::~CaptureSetReader() = default;
 bool CaptureSetReader::read(CaptureConsumer& to) {
   for (;;) {
     if (!current_) {
-      if (next_ == files_.size()) return false;
+      if (next_ == files_.size()) {
+        if (damage_) {
+          const std::string message = std::move(*damage_);
+          damage_.reset();
+          throw InputError(message);
+        }
+        return false;
+      }
       open_next();
     }
     Tap tap(&to);
-    if (!current_->read(tap)) {
+    bool more = false;
+    try {
+      more = current_->read(tap);
+    } catch (const InputError& error) {
+      if (next_ == files_.size()) throw;  // the last file's damage ends the capture there
+      skip_rest_after_damage(error, to);
+      continue;
+    }
+    if (!more) {
       close_current();
       continue;
     }
@@ -174,6 +189,17 @@ void CaptureSetReader::open_next() {
   }
   ++next_;
   current_ = open_(file.input, warnings_);
+}
+
+void CaptureSetReader::skip_rest_after_damage(const InputError& error, CaptureConsumer& to) {
+  const File& file = files_[next_ - 1];
+  if (!damage_) {
+    damage_ = fmt::format("{} (the rest of {} was skipped; the files after it were read)",
+                          error.what(), file.input.name);
+  }
+  close_current();
+  // What the damage took is a stretch of unknown length: a break, as a recording's end.
+  if (file.last) to.on_end(*file.last);
 }
 
 void CaptureSetReader::close_current() {

@@ -16,6 +16,9 @@
 //  * a file that declares other line settings than an earlier one.
 // A file that cannot be opened, is empty or is damaged before its first record has no time;
 // such files come last, in the order given, so the error names it after all else was read.
+// A file damaged part-way, with files after it, loses only what follows its damage: the
+// files after it are read on, across a break (as at a recording's end: nothing pairs across
+// it), and the damage is thrown once they were, so the command still fails with it.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -26,6 +29,7 @@
 #include "capture/capture_file.hpp"
 #include "capture/capture_reader.hpp"
 #include "capture/capture_warnings.hpp"
+#include "core/input_error.hpp"
 
 namespace rtu {
 
@@ -66,6 +70,8 @@ class CaptureSetReader final : public CaptureReader {
   class Tap;
   void open_next();
   void close_current();
+  // The current file is damaged (`error`) and files follow it: see the comment at the top.
+  void skip_rest_after_damage(const InputError& error, CaptureConsumer& to);
 
   Opener open_;
   WarningSink warnings_;
@@ -77,6 +83,8 @@ class CaptureSetReader final : public CaptureReader {
   std::size_t last_file_ = 0;
   Nanos precision_ = 0;
   std::uint64_t bytes_done_ = 0;  // sizes of the files read through
+  // The first damage of a file with files after it: thrown once they were read.
+  std::optional<std::string> damage_;
 };
 
 }  // namespace rtu

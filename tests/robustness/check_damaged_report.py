@@ -1,17 +1,18 @@
 #!/usr/bin/env python3
-"""A report of a damaged capture covers everything before the damage.
+"""A report of a damaged capture covers every record that could be read.
 
 A recording cut inside a block (a copy taken while it was written, a power loss), or a text
-capture with a line that is not one, stops the read at the damage. `decode` has then
-already written every record before it; `report` must likewise write its report of those
-records, say in it where the capture was damaged, and still fail with exit 2 and the
-reader's message. Checked on:
+capture with a line that is not one, stops the read of that file at the damage; in a set of
+files, the files after a damaged one are read on. `decode` writes every record that could
+be read; `report` must likewise write its report of those records, say in it where the
+capture was damaged, and still fail with exit 2 and the reader's message. Checked on:
 - a live-style recording (`export --raw`: declared settings, so the report reads it once),
   cut inside an enhanced packet block;
 - the same as the second file of a rotation set after a whole one;
+- the same as the middle file of a set of three: the third is read too;
 - a text hex capture with a bad line in the middle (its survey pass reads to the damage).
-In each case the report counts exactly the frames `decode` wrote before failing, and fewer
-than the whole capture holds.
+In each case the report counts exactly the frames `decode` wrote, and fewer than the whole
+capture holds.
 """
 import argparse
 import json
@@ -24,7 +25,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "../../tools/pylib"))
 from check_support import fail, fresh_dir  # noqa: E402  (after the path line)
 
-WARNING = "the capture could not be read to its end: "
+WARNING = "the capture is damaged: "
 
 
 def run(cmd):
@@ -62,23 +63,43 @@ def cut_inside_a_block(path, out):
     fail(f"{path}: no enhanced packet block past its middle")
 
 
-def check_damaged(rtuscope, files, whole_frames, where):
-    """The report of `files`, damaged at `where`, against decode of the same."""
+def check_damaged(rtuscope, files, whole_frames, where, at_least=0):
+    """The report of `files`, damaged at `where`, against decode of the same; the report
+    counts more than `at_least` frames."""
     frames, decode_rc, decode_err = decoded_frames(rtuscope, files)
     if decode_rc != 2 or where not in decode_err:
         fail(f"decode {files}: exit {decode_rc}, expected 2 naming {where!r}: {decode_err}")
     report, rc, err = reported(rtuscope, files)
-    if rc != 2 or where not in err or "the report covers what precedes it" not in err:
+    if rc != 2 or where not in err or "the report covers every record that could be read" \
+            not in err:
         fail(f"report {files}: exit {rc}, expected 2 naming {where!r}: {err}")
     warnings = [w for w in report["capture"]["warnings"] if w.startswith(WARNING)]
     if len(warnings) != 1 or where not in warnings[0]:
         fail(f"report {files}: no warning naming {where!r}: {report['capture']['warnings']}")
     counted = report["totals"]["frames"]
-    if counted != frames or not 0 < counted < whole_frames:
-        fail(f"report {files}: {counted} frames, decode wrote {frames} before the damage, "
-             f"the whole capture holds {whole_frames}")
+    if counted != frames or not at_least < counted < whole_frames:
+        fail(f"report {files}: {counted} frames, decode wrote {frames}, the whole capture "
+             f"holds {whole_frames}, expected more than {at_least}")
     print(f"{' '.join(os.path.basename(f) for f in files)}: report of the {counted} frames "
-          f"before the damage ({whole_frames} in the whole), exit 2, warning: {warnings[0]}")
+          f"that could be read ({whole_frames} in the whole), exit 2, warning: {warnings[0]}")
+
+
+def days_later(args, days):
+    """The capture's traffic `days` later, as a live-style recording; returns its path."""
+    shifted = os.path.join(args.work, f"later{days}.hex")
+    with open(args.capture) as src, open(shifted, "w") as dst:
+        for line in src:
+            stamp, sep, rest = line.partition(" ")
+            if line.startswith("#") or not sep:
+                dst.write(line)
+            else:
+                whole_s, dot, fraction = stamp.partition(".")
+                dst.write(f"{int(whole_s) + 86400 * days}{dot}{fraction}{sep}{rest}")
+    recording = os.path.join(args.work, f"later{days}.pcapng")
+    r = run([args.rtuscope, "export", shifted, "--raw", "-o", recording])
+    if r.returncode != 0:
+        fail(f"export --raw of the shifted capture: exit {r.returncode}: {r.stderr}")
+    return recording
 
 
 def main():
@@ -110,22 +131,15 @@ def main():
     if r.returncode != 0:
         fail(f"export --raw: exit {r.returncode}: {r.stderr}")
     # The second file: the same traffic a day later (the set is read in time order).
-    shifted = os.path.join(args.work, "later.hex")
-    with open(args.capture) as src, open(shifted, "w") as dst:
-        for line in src:
-            stamp, sep, rest = line.partition(" ")
-            if line.startswith("#") or not sep:
-                dst.write(line)
-            else:
-                whole_s, dot, fraction = stamp.partition(".")
-                dst.write(f"{int(whole_s) + 86400}{dot}{fraction}{sep}{rest}")
-    later = os.path.join(args.work, "later.pcapng")
-    r = run([args.rtuscope, "export", shifted, "--raw", "-o", later])
-    if r.returncode != 0:
-        fail(f"export --raw of the shifted capture: exit {r.returncode}: {r.stderr}")
+    later = days_later(args, 1)
     block = cut_inside_a_block(later, second)
     check_damaged(args.rtuscope, [first, second], 2 * whole_frames,
                   f"set-0002.pcapng: offset {block}: ")
+    # The cut file between two whole ones: the third is read after it, across a break.
+    third = days_later(args, 2)
+    where = f"set-0002.pcapng: offset {block}: "
+    check_damaged(args.rtuscope, [first, second, third], 3 * whole_frames, where,
+                  at_least=2 * whole_frames)
 
     # A text capture with a line that is not one, in its middle.
     lines = open(args.capture).read().splitlines(keepends=True)

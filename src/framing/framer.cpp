@@ -141,6 +141,29 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
     const std::size_t until_forced = pending < kMaxPending ? kMaxPending - pending : 1;
     const std::size_t stretch_end = i + std::min({n - i, kWindow - end_, until_forced});
     settled_.clear_run((consumed_ + pending) % kWindow, stretch_end - i);
+    if (i == 0) {
+      Nanos end = 0;
+      Nanos gap = kUnknownTime;
+      time_byte(0, end, gap);
+      store_byte(0, end, gap);
+      last_end = end;
+      ++i;
+    }
+    if (!starts_measured) {
+      // The bytes after a read's first were batched with it: back to back, no silence seen
+      // (time_byte's second branch). In a loop of its own, without time_byte's branches and
+      // with the bytes copied at once: this is most of the work a USB-chunked read costs.
+      const std::size_t count = stretch_end - i;
+      std::memcpy(bytes_.data() + end_, bytes + i, count);
+      ByteInfo* const to = info_.data() + end_;
+      for (std::size_t k = 0; k < count; ++k) {
+        last_end += char_time;
+        to[k] = ByteInfo{last_end, kUnknownTime, origin, chunk_size,
+                         errors != nullptr ? errors[i + k] : std::uint8_t{0}};
+      }
+      end_ += count;
+      i = stretch_end;
+    }
     for (; i < stretch_end; ++i) {
       Nanos end = 0;
       Nanos gap = kUnknownTime;

@@ -17,21 +17,26 @@ std::uint16_t be16(Bytes b, std::size_t at) {
 struct BlockContext {
   const DeviceMap& map;
   const Space& space;
+  RegisterPlans& plans;
   SlaveState& state;
   Decoded& out;
   bool write;           // the data is being written (access and learning rules)
   bool flag_undefined;  // add undefined_register for addresses the map lacks
 };
 
-std::uint64_t assemble(const Point& p, Bytes value) {
+// The bytes as one number, first byte highest.
+std::uint64_t big_endian(Bytes bytes) {
   std::uint64_t raw = 0;
+  for (const auto b : bytes) raw = (raw << 8U) | b;
+  return raw;
+}
+
+std::uint64_t assemble(const Point& p, Bytes value) {
   if (p.value_bytes() == 4 && p.word_order == WordOrder::kLowFirst) {
     // Low word first (YW2050 energy, PT, CT): the second register is the high word.
-    raw = (std::uint64_t{be16(value, 2)} << 16U) | be16(value, 0);
-  } else {
-    for (const auto b : value) raw = (raw << 8U) | b;
+    return (std::uint64_t{be16(value, 2)} << 16U) | be16(value, 0);
   }
-  return raw;
+  return big_endian(value);
 }
 
 double raw_number(const Point& p, std::uint64_t raw) {
@@ -44,67 +49,52 @@ double raw_number(const Point& p, std::uint64_t raw) {
 void finish_value(BlockContext& c, DecodedPoint& d) {
   const Point& p = *d.point;
   d.base = raw_number(p, d.raw) * p.scale + p.offset;
+  d.value = d.base;  // apply_scale_by() multiplies in the map's variables, where it has any
   d.has_value = true;
   if ((p.min && d.base < *p.min) || (p.max && d.base > *p.max))
     c.out.issues.add(IssueId::kOutOfRange);
   if (c.write && p.access == Access::kReadOnly) c.out.issues.add(IssueId::kReadOnlyWrite);
 }
 
-// Decodes register data `data` that starts at address `start` of the space.
+// Decodes register data `data` that starts at address `start` of the space, along the split
+// of that range into the map's points (register_plans.hpp).
 void decode_registers(BlockContext& c, std::uint32_t start, Bytes data) {
-  const bool bytewise = c.space.addressing == Addressing::kByte;
-  std::size_t off = 0;
-  while (off < data.size()) {
-    const std::uint32_t addr = bytewise ? start + static_cast<std::uint32_t>(off)
-                                        : start + static_cast<std::uint32_t>(off / 2);
-    const std::size_t left = data.size() - off;
-    const Point* p = c.space.point_at(addr);
-    // Every branch below gives one point: made in place here, not built aside and copied in.
-    DecodedPoint& d = c.out.points.emplace_back();
-    d.addr = addr;
-    if (p == nullptr) {
-      // An undefined register: one word, or in a byte space the bytes up to the next point
-      // or register boundary.
-      std::size_t len = 2;
-      if (bytewise && ((addr % 2) != 0 || c.space.point_at(addr + 1) != nullptr)) len = 1;
-      len = std::min(len, left);
-      d.raw_bytes = static_cast<std::uint8_t>(len);
-      for (std::size_t i = 0; i < len; ++i) d.raw = (d.raw << 8U) | data[off + i];
-      if (c.flag_undefined) c.out.issues.add(IssueId::kUndefinedRegister);
-      off += len;
-      continue;
-    }
-    d.point = p;
-    const std::uint32_t rel_units = addr - p->addr;
-    const std::size_t rel_bytes = bytewise ? rel_units : std::size_t{rel_units} * 2;
-    const std::size_t value_bytes = p->value_bytes();
-    if (rel_bytes < value_bytes) {
-      const std::size_t want = value_bytes - rel_bytes;
-      if (rel_bytes == 0 && left >= want) {
-        d.raw_bytes = static_cast<std::uint8_t>(value_bytes);
-        d.raw = assemble(*p, data.subspan(off, value_bytes));
-        finish_value(c, d);
-      } else {
-        // The transfer starts or ends inside the point: show the bytes, not a value.
-        const std::size_t len = std::min(want, left);
-        d.partial = true;
-        d.raw_bytes = static_cast<std::uint8_t>(len);
-        for (std::size_t i = 0; i < len; ++i) d.raw = (d.raw << 8U) | data[off + i];
+  const std::span<const RegisterStep> steps = c.plans.of(c.space, start, data.size());
+  // Every step gives one point, made in place: not built aside and copied in.
+  const std::size_t first = c.out.points.size();
+  c.out.points.resize(first + steps.size());
+  DecodedPoint* d = c.out.points.data() + first;
+  for (const RegisterStep& s : steps) {
+    const Bytes bytes = data.subspan(s.offset, s.length);
+    d->addr = s.addr;
+    d->point = s.point;
+    d->raw_bytes = s.length;
+    switch (s.kind) {
+      case RegisterStep::Kind::kValue:
+        d->raw = assemble(*s.point, bytes);
+        finish_value(c, *d);
+        break;
+      case RegisterStep::Kind::kPartial:
+        d->partial = true;
+        d->raw = big_endian(bytes);
         c.out.issues.add(IssueId::kPartialPoint);
-        if (c.write && p->access == Access::kReadOnly) c.out.issues.add(IssueId::kReadOnlyWrite);
-      }
-      off += std::min(want, left);
-      continue;
+        if (c.write && s.point->access == Access::kReadOnly) {
+          c.out.issues.add(IssueId::kReadOnlyWrite);
+        }
+        break;
+      case RegisterStep::Kind::kSpare:
+        // Shown raw, flagged when not zero.
+        d->spare_index = s.spare_index;
+        d->partial = s.length < 2;
+        d->raw = big_endian(bytes);
+        if (d->raw != 0) c.out.issues.add(IssueId::kReservedNonzero);
+        break;
+      case RegisterStep::Kind::kUndefined:
+        d->raw = big_endian(bytes);
+        if (c.flag_undefined) c.out.issues.add(IssueId::kUndefinedRegister);
+        break;
     }
-    // A spare register travelling with the point: shown raw, flagged when not zero.
-    const std::size_t spare_byte = rel_bytes - value_bytes;
-    const std::size_t len = std::min<std::size_t>(2 - (spare_byte % 2), left);
-    d.spare_index = static_cast<std::uint8_t>(spare_byte / 2 + 1);
-    d.raw_bytes = static_cast<std::uint8_t>(len);
-    for (std::size_t i = 0; i < len; ++i) d.raw = (d.raw << 8U) | data[off + i];
-    d.partial = len < 2;
-    if (d.raw != 0) c.out.issues.add(IssueId::kReservedNonzero);
-    off += len;
+    ++d;
   }
 }
 
@@ -148,12 +138,11 @@ void apply_learning(const Decoded& d, SlaveState& state) {
 }
 
 void apply_scale_by(Decoded& d, const SlaveState& state) {
-  // A point scales by the map's variables: without any, no point's list needs a look.
-  const bool has_vars = !d.map->vars.empty();
+  // A point scales by the map's variables: without any, every value is its base already.
+  if (d.map->vars.empty()) return;
   for (auto& pt : d.points) {
     if (pt.point == nullptr || !pt.has_value) continue;
     pt.value = pt.base;
-    if (!has_vars) continue;
     for (const std::size_t v : pt.point->scale_by) {
       const auto bit = std::uint32_t{1} << v;
       if (state.vars[v]) {
@@ -204,10 +193,11 @@ namespace {
 
 // A request's writes are decoded; its reads are only checked against the map.
 void decode_request(const DeviceMap& map, const Space& space, SlaveState& state,
-                    const DataAccess& access, ReadRangeChecks& read_checks, Decoded& out) {
+                    const DataAccess& access, ReadRangeChecks& read_checks, RegisterPlans& plans,
+                    Decoded& out) {
   for (const DataBlock& b : access) {
     if (b.write) {
-      BlockContext c{map, space, state, out, true, true};
+      BlockContext c{map, space, plans, state, out, true, true};
       decode_write(c, b);
     } else {
       out.issues.merge(read_checks.of(space, b.addr, b.qty));
@@ -235,9 +225,9 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
     }
     out.space = space;
     if (request_access != nullptr) {
-      decode_request(map, *space, state, *request_access, read_checks_, out);
+      decode_request(map, *space, state, *request_access, read_checks_, plans_, out);
     } else {
-      decode_request(map, *space, state, data_access(frame, nullptr), read_checks_, out);
+      decode_request(map, *space, state, data_access(frame, nullptr), read_checks_, plans_, out);
     }
     return;
   }
@@ -250,7 +240,7 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
   // The normal response confirms a write: learn what it set. Before any read, as the device
   // writes first (FC23).
   if (const DataBlock* w = access.write()) {
-    BlockContext c{map, *space, state, scratch_, true, true};
+    BlockContext c{map, *space, plans_, state, scratch_, true, true};
     decode_write(c, *w);
     scratch_.map = &map;
     apply_learning(scratch_, state);
@@ -260,7 +250,7 @@ void RegisterDecoder::decode(const DeviceMap& map, SlaveState& state, const Reco
   }
   if (const DataBlock* r = access.read(); r != nullptr && r->has_values) {
     // Undefined addresses were flagged on the request; here they are only shown.
-    BlockContext c{map, *space, state, out, false, false};
+    BlockContext c{map, *space, plans_, state, out, false, false};
     decode_block(c, *r);
     // Learn first, so that a read that brings PT and the voltages together scales them.
     apply_learning(out, state);

@@ -15,6 +15,7 @@
 #include "core/issue.hpp"
 #include "dissect/device_map.hpp"
 #include "dissect/read_range_checks.hpp"
+#include "dissect/register_plans.hpp"
 #include "framing/record.hpp"
 #include "modbus/data_access.hpp"
 
@@ -71,8 +72,9 @@ class RegisterDecoder {
               const DataAccess* request_access, Decoded& out);
 
  private:
-  Decoded scratch_;
-  ReadRangeChecks read_checks_;  // confirmed writes are decoded here to learn from them
+  Decoded scratch_;  // confirmed writes are decoded here to learn from them
+  ReadRangeChecks read_checks_;
+  RegisterPlans plans_;
 };
 
 // The enum text of a point's value, or null when the value is not listed.

@@ -70,6 +70,41 @@ inline const MapLibrary& bundled_maps() {
   return lib;
 }
 
+// A range of a space: `length` units (a read's quantity) or bytes, as the test counts.
+struct SpaceRange {
+  const Space* space;
+  std::uint32_t start;
+  std::uint32_t length;
+};
+
+// Ranges around every point of every bundled map's spaces: starting before, at, inside and
+// after each point, 1 to 24 long. Far more than a decoder's remembering table holds.
+inline std::vector<SpaceRange> ranges_around_bundled_points() {
+  std::vector<SpaceRange> ranges;
+  for (const auto& map : bundled_maps().maps()) {
+    for (const Space& space : map->spaces) {
+      for (const Point& p : space.points) {
+        for (std::uint32_t back = 0; back <= 2; ++back) {
+          if (p.addr < back) continue;
+          for (std::uint32_t length = 1; length <= 24; ++length) {
+            ranges.push_back({&space, p.addr - back, length});
+            ranges.push_back({&space, p.addr + back + 1, length});
+          }
+        }
+      }
+    }
+  }
+  return ranges;
+}
+
+// The k-th of `n` items in three passes (k below 3n) that ask each one again after others:
+// forwards, backwards, then every seventh.
+inline std::size_t asked_again_order(std::size_t k, std::size_t n) {
+  const std::size_t pass = k / n;
+  const std::size_t i = k % n;
+  return pass == 0 ? i : pass == 1 ? n - 1 - i : (i * 7) % n;
+}
+
 inline const DecodedPoint* find_point(const Decoded& d, std::string_view name) {
   for (const auto& p : d.points) {
     if (p.point != nullptr && p.spare_index == 0 && p.point->name == name) return &p;

@@ -149,10 +149,14 @@ bool PcapImporter::fetch() {
     if (described_.empty()) take_declarations(reader_->first_interface_description());
     return false;
   }
+  // Nearly every packet is on the interface of the packet before it: that one needs no look.
   const auto interface = std::make_pair(packet_.section, packet_.interface_id);
-  if (std::find(described_.begin(), described_.end(), interface) == described_.end()) {
-    described_.push_back(interface);
-    take_declarations(packet_.interface_description);
+  if (interface != last_interface_) {
+    last_interface_ = interface;
+    if (std::find(described_.begin(), described_.end(), interface) == described_.end()) {
+      described_.push_back(interface);
+      take_declarations(packet_.interface_description);
+    }
   }
   if (packet_.original_length > packet_.data.size()) {
     if (cut_.count == 0) {
@@ -176,17 +180,23 @@ void PcapImporter::take_declarations(std::string_view interface_description) {
 // two-port live recording gives ports 0 and 1, and an export whose raw reads sit on a
 // second interface still gives port 0.
 std::uint8_t PcapImporter::port_of(std::uint32_t section, std::uint32_t interface_id) {
+  // Nearly every read is on the port of the read before it: that one needs no look.
+  if (section == port_section_ && interface_id == last_port_interface_) return last_port_;
   if (section != port_section_) {
     port_section_ = section;
     port_interfaces_.clear();
   }
+  last_port_interface_ = interface_id;
   const auto it = std::find(port_interfaces_.begin(), port_interfaces_.end(), interface_id);
   if (it != port_interfaces_.end()) {
-    return static_cast<std::uint8_t>(it - port_interfaces_.begin());
+    last_port_ = static_cast<std::uint8_t>(it - port_interfaces_.begin());
+  } else if (port_interfaces_.size() == UINT8_MAX) {
+    last_port_ = UINT8_MAX;
+  } else {
+    port_interfaces_.push_back(interface_id);
+    last_port_ = static_cast<std::uint8_t>(port_interfaces_.size() - 1);
   }
-  if (port_interfaces_.size() == UINT8_MAX) return UINT8_MAX;
-  port_interfaces_.push_back(interface_id);
-  return static_cast<std::uint8_t>(port_interfaces_.size() - 1);
+  return last_port_;
 }
 
 // The reader stops at the first damage, as PcapReader does: reading on would deliver what

@@ -96,6 +96,7 @@ class PcapImporter {
   // The interfaces (section, id) whose descriptions were read for the above: each is read
   // once, not once per packet.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> described_;
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> last_interface_;  // the last packet's
   CutRecords cut_;
   std::optional<InputError> deferred_;
   std::uint8_t pending_errors_ = 0;  // from events without bytes
@@ -103,6 +104,9 @@ class PcapImporter {
   std::vector<std::uint8_t> errors_;
   std::uint32_t port_section_ = 0;
   std::vector<std::uint32_t> port_interfaces_;  // index = port
+  // The last read's interface and its port; no interface has this id before the first read.
+  std::uint32_t last_port_interface_ = UINT32_MAX;
+  std::uint8_t last_port_ = 0;
 };
 
 // "RS-485 9600 8E1; <source>; timing resolution 16 ms[; response timeout 1000 ms]": what a

@@ -7,7 +7,9 @@
 // each function code in one space only and of the space's kind, points sorted, disjoint,
 // named uniquely and inside 0..0xFFFF, found again by point_at(); a scale that is not 0,
 // 0..9 decimals, var references that exist, bit fields inside the value and disjoint,
-// min ≤ max, and every var learned by some point.
+// min ≤ max, and every var learned by some point. The register decoder's split of ranges
+// around its points (register_plans.hpp) covers each range's bytes once, in order, with a
+// whole value only where a point starts and as long as the point's value.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "dissect/map_loader.hpp"
+#include "dissect/register_plans.hpp"
 #include "fuzz_oracle.hpp"
 
 namespace {
@@ -75,10 +78,40 @@ void check_space(const DeviceMap& map, const Space& space) {
   }
 }
 
+// Ranges starting one unit before, at and after each of the first points, from one byte to
+// a few bytes past the point's value.
+void check_register_splits(const Space& space) {
+  constexpr std::size_t kPointsChecked = 16;
+  std::vector<rtu::dissect::RegisterStep> steps;
+  for (std::size_t i = 0; i < space.points.size() && i < kPointsChecked; ++i) {
+    const Point& p = space.points[i];
+    for (std::uint32_t start = p.addr > 0 ? p.addr - 1 : 0; start <= p.addr + 1; ++start) {
+      for (std::size_t bytes = 1; bytes <= p.value_bytes() + 3; ++bytes) {
+        rtu::dissect::plan_registers(space, start, bytes, steps);
+        std::size_t next = 0;
+        for (const auto& step : steps) {
+          if (step.offset != next || step.length == 0) fail(kTarget, "split leaves a gap", p.name);
+          const bool value = step.kind == rtu::dissect::RegisterStep::Kind::kValue;
+          if (value && (step.point->addr != step.addr || step.length != step.point->value_bytes()))
+            fail(kTarget, "split gives a value that is not its point's", p.name);
+          if ((step.point == nullptr) !=
+              (step.kind == rtu::dissect::RegisterStep::Kind::kUndefined))
+            fail(kTarget, "split names no point for a defined address", p.name);
+          next += step.length;
+        }
+        if (next != bytes) fail(kTarget, "split does not cover the range", p.name);
+      }
+    }
+  }
+}
+
 void check_map(const DeviceMap& map) {
   if (map.model.empty()) fail(kTarget, "accepted a map without a model", "");
   if (map.spaces.empty()) fail(kTarget, "accepted a map without spaces", "");
-  for (const auto& space : map.spaces) check_space(map, space);
+  for (const auto& space : map.spaces) {
+    check_space(map, space);
+    check_register_splits(space);
+  }
   for (std::size_t v = 0; v < map.vars.size(); ++v) {
     bool learned = false;
     for (const auto& space : map.spaces) {

@@ -236,6 +236,7 @@ void BusMetrics::on_record(Record& r) {
   auto& extras = slaves_[r.slave()];
   if (!extras) extras = std::make_unique<SlaveExtras>();
   ++extras->responses[static_cast<std::uint8_t>(r.function() & 0x7FU)];
+  if (latency_unseen(r)) ++extras->latency_unseen;
   if (!counts_latency(r)) return;
   const double seconds = static_cast<double>(r.latency) * kSecondsPerNano;
   const auto* bound = std::lower_bound(kLatencyBounds.begin(), kLatencyBounds.end(), seconds);
@@ -294,6 +295,15 @@ std::string BusMetrics::exposition(Nanos now, const ToolHealth& health) const {
                e.latency_sum);
     out.sample("rtuscope_response_latency_seconds_count", {{"bus", bus}, {"slave", slave}},
                static_cast<double>(e.latency_count));
+  }
+  out.family("rtuscope_response_latency_unseen_total", MetricType::kCounter,
+             "Intact responses whose latency the capture cannot show: they came in the read "
+             "that ended their request (an adapter's batching), so the histogram leaves them out.");
+  for (std::size_t a = 0; a < slaves_.size(); ++a) {
+    if (!slaves_[a]) continue;
+    out.sample("rtuscope_response_latency_unseen_total",
+               {{"bus", bus}, {"slave", fmt::format("{}", a)}},
+               static_cast<double>(slaves_[a]->latency_unseen));
   }
   out.family("rtuscope_bus_utilisation_ratio", MetricType::kGauge,
              "Share of the last 10 s the line carried bytes (bytes × character time).");

@@ -60,7 +60,8 @@ class BusMetrics final : public RecordSink {
     std::map<std::uint8_t, std::uint64_t> responses;  // by function, exception bit cleared
     std::array<std::uint64_t, kLatencyBounds.size()> latency_le{};  // non-cumulative
     std::uint64_t latency_count = 0;
-    double latency_sum = 0.0;  // seconds
+    double latency_sum = 0.0;          // seconds
+    std::uint64_t latency_unseen = 0;  // answers in their request's read (latency_unseen())
   };
   struct BusySecond {
     std::int64_t second = -1;  // capture time / 1 s

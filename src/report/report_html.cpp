@@ -374,12 +374,18 @@ void slave_table(Out& o, const TrafficStats& stats) {
         count_cell(s->damaged_requests, true), count_cell(s->issues[IssueId::kCrc], true),
         count_cell(s->issues[IssueId::kUnsolicited], true),
         count_cell(s->issues[IssueId::kWrongSlave], true));
+    // Answers in their request's read show no latency: said, not counted as 0 ms.
+    const std::string unseen =
+        s->latency_unseen > 0
+            ? fmt::format("<br><span class=\"num0\">not seen for {} in their request's read</span>",
+                          s->latency_unseen)
+            : "";
     if (s->latency.empty()) {
-      put(o, "<td colspan=\"5\" class=\"num0\">no timed answers</td>");
+      put(o, "<td colspan=\"5\" class=\"num0\">no timed answers{}</td>", unseen);
     } else {
-      put(o, "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>", ms_text(s->latency.min()),
+      put(o, "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}{}</td>", ms_text(s->latency.min()),
           ms_text(s->latency.quantile(0.5)), ms_text(s->latency.quantile(0.95)),
-          ms_text(s->latency.quantile(0.99)), ms_text(s->latency.max()));
+          ms_text(s->latency.quantile(0.99)), ms_text(s->latency.max()), unseen);
     }
     put(o, "<td class=\"wrap\">");
     bool first = true;

@@ -180,6 +180,7 @@ void write_slave(JsonWriter& j, const TrafficStats& stats, std::uint8_t a, const
   j.key("latency_ms");
   write_percentiles(j, s.latency);
   j.field("latency_samples", s.latency.count());
+  j.field("latency_unseen", s.latency_unseen);
   j.key("function_codes");
   j.begin_array();
   for (const auto& [f, n] : s.functions) {
@@ -286,6 +287,7 @@ void write_timing(JsonWriter& j, const TrafficStats& stats) {
   j.field("t3_5_violations", stats.totals().issues[IssueId::kT35]);
   j.key("slave_turnaround_ms");
   write_percentiles(j, stats.all_latencies());
+  j.field("slave_turnaround_unseen", stats.all_latencies_unseen());
   j.key("master_turnaround_ms");
   write_percentiles(j, stats.master_turnaround());
   j.key("turnaround_glitches");

@@ -111,6 +111,11 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
     }
     const std::string issues = issue_counts_text(s->issues);
     if (!issues.empty()) line(o, "        issues: {}", issues);
+    if (s->latency_unseen > 0) {
+      line(o,
+           "        latency not seen for {} answers: each came in the read that ended its request",
+           s->latency_unseen);
+    }
   }
   if (any_identified) {
     line(o, "  * device identified from the traffic; name it with --device ADDR=MODEL or --bus");
@@ -141,7 +146,9 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "");
 
   line(o, "TIMING");
-  line(o, "  slave turnaround (latency) ms  {}", latency_text(stats.all_latencies()));
+  const std::uint64_t unseen = stats.all_latencies_unseen();
+  line(o, "  slave turnaround (latency) ms  {}{}", latency_text(stats.all_latencies()),
+       unseen > 0 ? fmt::format(" (not seen for {} answers in their request's read)", unseen) : "");
   line(o, "  master turnaround ms           {}", latency_text(stats.master_turnaround()));
   line(o, "  t1.5 pauses inside frames      {}{}", t.issues[IssueId::kT15],
        stats.t15_observable() ? "" : " (not observable in this capture)");

@@ -28,9 +28,23 @@ bool is_damaged(const Record& frame) {
          frame.issues.has(IssueId::kBreak) || frame.issues.has(IssueId::kOverrun);
 }
 
-bool counts_latency(const Record& response) {
+namespace {
+
+bool has_latency(const Record& response) {
   return response.role == Role::kResponse && response.latency != kUnknownTime &&
          !response.issues.has(IssueId::kWrongSlave) && response.crc_ok;
+}
+
+}  // namespace
+
+// The silence before a response is known where its first byte started a read (or every byte
+// has its own time): then the latency was seen, to within the timing resolution.
+bool counts_latency(const Record& response) {
+  return has_latency(response) && response.gap_before != kUnknownTime;
+}
+
+bool latency_unseen(const Record& response) {
+  return has_latency(response) && response.gap_before == kUnknownTime;
 }
 
 void LineErrorCounts::add(std::uint8_t line_errors) {
@@ -116,6 +130,14 @@ LogHistogram TrafficStats::all_latencies() const {
     if (s) all.merge(s->latency);
   }
   return all;
+}
+
+std::uint64_t TrafficStats::all_latencies_unseen() const {
+  std::uint64_t n = 0;
+  for (const auto& s : slaves_) {
+    if (s) n += s->latency_unseen;
+  }
+  return n;
 }
 
 namespace {
@@ -389,6 +411,7 @@ void TrafficStats::count_response(const Record& r) {
     ++s.after_next_request;
     if (next_request_after_ != kUnknownTime) s.next_request_after.add(next_request_after_);
   }
+  if (latency_unseen(r)) ++s.latency_unseen;
   if (counts_latency(r)) {
     s.latency.add(r.latency);
     for (std::size_t i = 0; i < kCandidateTimeoutsMs.size(); ++i) {

@@ -45,8 +45,14 @@ std::string_view length_class_name(std::size_t cls);  // "<16", "16-63", ...
 bool is_damaged(const Record& frame);
 
 // Whether a response's latency counts in its slave's latency statistics: a measured latency
-// on an intact response from the slave that was asked. The report and the metrics share it.
+// on an intact response from the slave that was asked, whose start the capture shows. The
+// report and the metrics share it.
 bool counts_latency(const Record& response);
+// An intact response from the slave that was asked whose latency the capture cannot show: it
+// came in the same read as the end of its request (an adapter's batching), so its bytes were
+// placed back to back with the request's and its latency reads 0, a lower bound only. It is
+// counted apart, not as a latency of 0.
+bool latency_unseen(const Record& response);
 
 // Records with parity/framing/break/overrun errors, and which errors they carry.
 struct LineErrorCounts {
@@ -128,6 +134,7 @@ struct SlaveStats {
   std::map<std::uint8_t, std::uint64_t> exception_codes;
   std::map<std::uint8_t, std::uint64_t> functions;  // request function codes used
   LogHistogram latency;
+  std::uint64_t latency_unseen = 0;  // answers whose latency the capture cannot show
   std::array<std::uint64_t, kCandidateTimeoutsMs.size()> lost_at{};  // latency > candidate
   std::uint64_t t15_requests = 0;   // requests to it with a pause > t1.5 inside
   std::uint64_t t15_responses = 0;  // its responses with a pause > t1.5 inside
@@ -250,6 +257,7 @@ class TrafficStats : public RecordSink {
   [[nodiscard]] const LogHistogram& master_turnaround() const { return master_turnaround_; }
   // Latencies of every slave together.
   [[nodiscard]] LogHistogram all_latencies() const;
+  [[nodiscard]] std::uint64_t all_latencies_unseen() const;
   // Single 0x00/0xFF noise bytes right after a response (the master's turnaround).
   [[nodiscard]] std::uint64_t glitches_after_response() const { return glitches_after_response_; }
   [[nodiscard]] std::uint64_t glitch_bytes_00() const { return glitch_00_; }

@@ -247,6 +247,8 @@ def main():
             "crc_errors": prometheus.by("sum by (slave) (rtuscope_crc_errors_total)", "slave"),
             "latency_count": prometheus.by(
                 "sum by (slave) (rtuscope_response_latency_seconds_count)", "slave"),
+            "latency_unseen": prometheus.by(
+                "sum by (slave) (rtuscope_response_latency_unseen_total)", "slave"),
             "latency_inf": prometheus.by(
                 'sum by (slave) (rtuscope_response_latency_seconds_bucket{le="+Inf"})', "slave"),
             "p50": prometheus.by(
@@ -278,7 +280,8 @@ def main():
         for key, report_key in (("requests", "requests"), ("responses", "responses"),
                                 ("exceptions", "exceptions"), ("timeouts", "timeouts"),
                                 ("crc_errors", "crc_errors"), ("latency_count", "latency_samples"),
-                                ("latency_inf", "latency_samples")):
+                                ("latency_inf", "latency_samples"),
+                                ("latency_unseen", "latency_unseen")):
             want = {s: float(v[report_key]) for s, v in slaves.items()
                     if v[report_key] or key in ("requests", "timeouts", "crc_errors")}
             have = {s: v for s, v in got[key].items() if v or s in want}

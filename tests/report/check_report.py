@@ -26,7 +26,8 @@ from check_support import fail  # noqa: E402  (after the path line)
 SLAVE_KEYS = ["device", "requests", "responses", "exceptions", "exceptions_by_code",
               "timeouts", "damaged_requests", "late_responses", "crc_errors", "unsolicited", "wrong_slave",
               "after_next_request", "frames", "bytes", "line_errors", "latency_ms",
-              "latency_samples", "function_codes", "poll_periods", "timing", "timeout_fit"]
+              "latency_samples", "latency_unseen", "function_codes", "poll_periods", "timing",
+              "timeout_fit"]
 TOTAL_KEYS = ["start", "end", "duration_s", "records", "frames", "requests", "responses",
               "broadcasts", "unknown_role", "bytes", "noise_records", "noise_bytes",
               "bus_utilisation_pct", "crc_errors", "exceptions", "timeouts", "damaged_requests",
@@ -73,6 +74,10 @@ def check_json(report):
             order = [lat["min"], lat["p50"], lat["p95"], lat["p99"], lat["max"]]
             if order != sorted(order):
                 fail(f"slave {addr} latency percentiles out of order: {order}")
+        # A latency is either seen (a sample) or hidden in its request's read, never both.
+        if slave["latency_samples"] + slave["latency_unseen"] > slave["responses"]:
+            fail(f"slave {addr}: {slave['latency_samples']} latencies seen and "
+                 f"{slave['latency_unseen']} unseen, of {slave['responses']} responses")
         requests += slave["requests"]
         responses += slave["responses"]
         timeouts += slave["timeouts"]

@@ -300,7 +300,9 @@ struct Analysis {
   }
 };
 
-Analysis analyse(const BusBuilder& bus, Nanos resolution = kNanosPerMicro) {
+// The reads of `bus` (one per byte unless given) through the decoding and the statistics.
+Analysis analyse(const BusBuilder& bus, Nanos resolution = kNanosPerMicro,
+                 const std::optional<std::vector<Chunk>>& reads = std::nullopt) {
   Analysis a;
   a.stats = std::make_unique<TrafficStats>(a.devices.get());
   // No maps: every slave's values are raw registers.
@@ -308,15 +310,15 @@ Analysis analyse(const BusBuilder& bus, Nanos resolution = kNanosPerMicro) {
   PipelineOptions o;
   o.line = bus.line();
   o.timing_resolution = resolution;
-  o.per_byte_timing = true;
+  o.per_byte_timing = !reads.has_value();
   CaptureInfo info;
   info.source = "crafted";
   info.line = bus.line();
   info.timing_resolution = resolution;
-  info.per_byte_timing = true;
+  info.per_byte_timing = o.per_byte_timing;
   DecodePipeline pipeline(o, stage);
   pipeline.start(info);
-  for (const Chunk& c : bus.per_byte()) pipeline.push(c);
+  for (const Chunk& c : reads ? *reads : bus.per_byte()) pipeline.push(c);
   pipeline.finish();
   a.findings = find_problems(*a.stats);
   return a;
@@ -350,6 +352,39 @@ TEST(TrafficStats, CleanBusHasNoFindingsAndExactCounts) {
   // Latencies were laid out as 8..15 ms exactly.
   EXPECT_EQ(a.stats->slave(1)->latency.min(), 8 * kMs);
   EXPECT_EQ(a.stats->slave(1)->latency.max(), 15 * kMs);
+}
+
+// Through a USB adapter with a 16 ms latency timer, slave 1's answers (3 ms after the request)
+// come in the read that ended their request: their latency is not seen, and is counted apart
+// rather than as 0 ms. Slave 2's (40 ms after) start reads of their own: seen, to within the
+// timer. Read byte by byte, every latency is seen.
+TEST(TrafficStats, ALatencyHiddenInTheRequestsReadIsCountedApartNotAsZero) {
+  BusBuilder bus;
+  for (int c = 0; c < 20; ++c) {
+    bus.add(read_request(1), 100 * kMs);
+    bus.add(read_response(1), 3 * kMs);
+    bus.add(read_request(2), 100 * kMs);
+    bus.add(read_response(2), 40 * kMs);
+  }
+  const Nanos timer = 16 * kMs;
+  const Analysis usb = analyse(bus, timer, bus.usb(timer, 62));
+  const SlaveStats* fast = usb.stats->slave(1);
+  const SlaveStats* slow = usb.stats->slave(2);
+  ASSERT_NE(fast, nullptr);
+  ASSERT_NE(slow, nullptr);
+  EXPECT_EQ(fast->responses, 20U);
+  EXPECT_EQ(fast->latency_unseen, 20U);
+  EXPECT_TRUE(fast->latency.empty());
+  EXPECT_EQ(slow->latency_unseen, 0U);
+  ASSERT_EQ(slow->latency.count(), 20U);
+  EXPECT_GE(slow->latency.min(), 40 * kMs - timer);
+  EXPECT_LE(slow->latency.max(), 40 * kMs + timer);
+  EXPECT_EQ(usb.stats->all_latencies_unseen(), 20U);
+
+  const Analysis per_byte = analyse(bus);
+  EXPECT_EQ(per_byte.stats->all_latencies_unseen(), 0U);
+  EXPECT_EQ(per_byte.stats->slave(1)->latency.count(), 20U);
+  EXPECT_EQ(per_byte.stats->slave(1)->latency.min(), 3 * kMs);
 }
 
 TEST(TrafficStats, UtilisationIsBytesTimesCharacterTimeOverDuration) {

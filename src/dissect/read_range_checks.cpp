@@ -1,7 +1,6 @@
 #include "dissect/read_range_checks.hpp"
 
-#include <algorithm>
-#include <bit>
+#include "dissect/range_slot.hpp"
 
 namespace rtu::dissect {
 
@@ -30,15 +29,10 @@ IssueSet read_range_issues(const Space& space, std::uint32_t start, std::uint32_
 }
 
 ReadRangeChecks::ReadRangeChecks(unsigned slot_bits)
-    : slot_bits_(std::clamp(slot_bits, 1U, 16U)), entries_(std::size_t{1} << slot_bits_) {}
+    : slot_bits_(clamp_slot_bits(slot_bits)), entries_(std::size_t{1} << slot_bits_) {}
 
 IssueSet ReadRangeChecks::of(const Space& space, std::uint32_t start, std::uint32_t quantity) {
-  // Multiplied by an odd constant and its top bits taken, so that every bit of the space's
-  // address and of the range moves the slot.
-  const std::uint64_t key = std::bit_cast<std::uintptr_t>(&space) ^ (std::uint64_t{start} << 32U) ^
-                            (std::uint64_t{quantity} << 16U);
-  const auto slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> (64U - slot_bits_));
-  Entry& e = entries_[slot];
+  Entry& e = entries_[range_slot(space, start, quantity, slot_bits_)];
   if (e.space != &space || e.start != start || e.quantity != quantity) {
     e = Entry{&space, start, quantity, read_range_issues(space, start, quantity)};
   }

@@ -100,12 +100,9 @@ std::optional<Analysis> analyse(const ReportArgs& args, const CaptureOpener& cap
     if (!info) return std::nullopt;
     analysis.stats->complete_capture(*info);
   } else {
-    try {
-      decode_capture(capture, survey, options, stage);
-    } catch (const InputError& error) {
-      // Every record before the damage was decoded and counted: the report still covers them.
-      analysis.damage = error.what();
-    }
+    // Every record before any damage is decoded and counted: the report still covers them.
+    analysis.stats->complete_capture(
+        decode_capture(capture, survey, options, stage, &analysis.damage));
     progress.erase();
   }
   if (!analysis.damage.empty()) {

@@ -182,7 +182,7 @@ void run_live_session(const LiveSessionSetup& setup, DeviceSetup& devices,
   if (hooks.on_stopped) hooks.on_stopped(capture.summary(), recorder.get());
 
   if (report) {
-    report->finish();
+    report->finish(capture.summary().timing_resolution);
     if (report_out || setup.always_report) report->print_findings(stderr, 3);
     if (report_out) {
       report->write(*report_out, setup.report_format.empty() ? report_format_for(setup.report_path)

@@ -28,7 +28,9 @@ class RunReport {
   [[nodiscard]] RecordSink& sink() { return fanout_; }
 
   // Identifies unnamed slaves and ranks the findings; call once, after the run stopped.
-  void finish();
+  // `resolution_at_end`: the one the reads showed by then (LiveSummary::timing_resolution),
+  // what the report judges observability by, as `rtuscope report` of the run's recording does.
+  void finish(Nanos resolution_at_end);
   [[nodiscard]] const std::vector<Finding>& findings() const { return findings_; }
   // The statistics gathered so far (what the metrics render between two records).
   [[nodiscard]] const TrafficStats& stats() const { return stats_; }

@@ -48,6 +48,7 @@ struct FramingAhead::Batch {
   std::uint64_t items_read = 0;  // reads and records in this batch
   bool last = false;             // the capture's end was told in it
   std::exception_ptr error;      // how reading failed, thrown after the steps
+  Nanos resolution_at_end = 0;   // the framing's, in the last batch
 
   void clear() {
     steps.clear();
@@ -60,6 +61,7 @@ struct FramingAhead::Batch {
     items_read = 0;
     last = false;
     error = nullptr;
+    resolution_at_end = 0;
   }
   [[nodiscard]] bool full() const {
     return steps.size() + advances_untold >= kBatchSteps || arena.size() >= kBatchBytes;
@@ -203,6 +205,7 @@ void FramingAhead::run() {
       } catch (...) {
         if (!batch->error) batch->error = std::current_exception();
       }
+      batch->resolution_at_end = framing.timing_resolution();
     }
     handoff.tell_advance();
     batch->bytes_read = reader_->bytes_read();
@@ -249,7 +252,10 @@ bool FramingAhead::deliver(PairingInput& pairing) {
   bytes_read_ = current_->bytes_read;
   items_read_ += current_->items_read;
   const bool last = current_->last;
-  if (last) ended_ = true;  // the reading thread is done even if telling throws
+  if (last) {
+    ended_ = true;  // the reading thread is done even if telling throws
+    resolution_at_end_ = current_->resolution_at_end;
+  }
   tell(*current_, pairing);
   if (!last) return true;
   if (current_->error) std::rethrow_exception(current_->error);

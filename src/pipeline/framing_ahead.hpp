@@ -75,6 +75,9 @@ class FramingAhead {
   // The reader itself, for what it learned by the end (declarations, capture warnings).
   // Only once ended(); throws std::logic_error before.
   [[nodiscard]] const CaptureReader& source();
+  // The timing resolution the framing ended with (DecodePipeline::timing_resolution); only
+  // once ended().
+  [[nodiscard]] Nanos resolution_at_end() const { return resolution_at_end_; }
 
  private:
   struct Step;
@@ -96,6 +99,7 @@ class FramingAhead {
   std::unique_ptr<HandoffQueue<Batch>> queue_;
   std::unique_ptr<Batch> current_;  // being told (the reading thread never touches it)
   bool ended_ = false;
+  Nanos resolution_at_end_ = 0;
   std::thread thread_;  // last: started once everything above exists
 };
 

@@ -234,9 +234,10 @@ PipelineOptions pipeline_options(const CaptureSurvey& survey, const ReplayOption
 }
 
 // Pass 2 over `reader`, as `survey` says, into `sink`, all framing and pairing on this thread.
-// `only_pass`: no survey pass came first.
+// `only_pass`: no survey pass came first. `resolution_at_end`: the framing's, once it finished
+// (also when the reader threw).
 void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOptions& options,
-                 RecordSink& sink, bool only_pass) {
+                 RecordSink& sink, bool only_pass, Nanos& resolution_at_end) {
   const CaptureInfo& info = survey.info;
   // A first look needs the pairing apart from the framing, to stand between them.
   std::optional<TransactionTracker> tracker;
@@ -261,10 +262,12 @@ void decode_pass(ReadAhead& reader, const CaptureSurvey& survey, const ReplayOpt
   } catch (...) {
     decode_progress.done();
     pipeline.finish();  // everything before the damage is still delivered
+    resolution_at_end = pipeline.timing_resolution();
     throw;
   }
   decode_progress.done();
   pipeline.finish();
+  resolution_at_end = pipeline.timing_resolution();
 }
 
 // Pass 2 to the end, as `survey` says, into `sink`: the reading and framing run on the
@@ -349,8 +352,16 @@ class DecodingRun {
     if (framing_) {
       decode_pass(*framing_, options_, sink, only_pass);
     } else {
-      decode_pass(*parser_, survey_, options_, sink, only_pass);
+      decode_pass(*parser_, survey_, options_, sink, only_pass, resolution_at_end_);
     }
+  }
+  // The capture's info as the survey gave it, with the resolution the framing ended with
+  // where the reads raised it; only once ended().
+  [[nodiscard]] CaptureInfo info_at_end() const {
+    CaptureInfo info = survey_.info;
+    const Nanos at_end = framing_ ? framing_->resolution_at_end() : resolution_at_end_;
+    if (at_end > info.timing_resolution) info.learned_resolution = at_end;
+    return info;
   }
   // Reading has ended (the pass ran to the end, or the reader threw).
   [[nodiscard]] bool ended() const { return framing_ ? framing_->ended() : parser_->ended(); }
@@ -367,6 +378,7 @@ class DecodingRun {
   std::unique_ptr<ReadAhead> parser_;       // when framing runs on this thread
   ReadAhead* parser_in_framing_ = nullptr;  // the one inside framing_, if any
   std::unique_ptr<FramingAhead> framing_;
+  Nanos resolution_at_end_ = 0;  // when framing runs on this thread
 };
 
 // True when `a` and `b` decode a capture alike.
@@ -458,10 +470,16 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
   return result;
 }
 
-void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
-                    const ReplayOptions& options, RecordSink& sink) {
+CaptureInfo decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
+                           const ReplayOptions& options, RecordSink& sink, std::string* damage) {
   DecodingRun run(open([](std::string_view) {}), survey, options, nullptr);
-  run.decode(sink, false);
+  try {
+    run.decode(sink, false);
+  } catch (const InputError& error) {
+    if (damage == nullptr) throw;
+    *damage = error.what();
+  }
+  return run.info_at_end();
 }
 
 std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureSurvey survey,
@@ -491,7 +509,7 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
     if (damage == nullptr) throw;
     if (!same) return std::nullopt;  // decoded again after survey_capture, up to the damage
     *damage = error.what();
-    return survey.info;
+    return run.info_at_end();
   } catch (...) {
     // Any other failure of the reading: what precedes it was surveyed all the same.
     if (run.ended() && same_decoding(surveyed(), survey)) conclude();
@@ -499,14 +517,12 @@ std::optional<CaptureInfo> decode_and_survey(const CaptureOpener& open, CaptureS
   }
   if (!same_decoding(surveyed(), survey)) return std::nullopt;
   conclude();
-  return survey.info;
+  return run.info_at_end();
 }
 
 CaptureInfo replay_capture(const CaptureOpener& open, const ReplayOptions& options,
                            RecordSink& sink) {
-  const CaptureSurvey survey = survey_capture(open, options);
-  decode_capture(open, survey, options, sink);
-  return survey.info;
+  return decode_capture(open, survey_capture(open, options), options, sink);
 }
 
 CaptureOpener capture_opener(const CaptureFile& file) {

@@ -86,10 +86,14 @@ struct CaptureSurvey {
 // says how to decode it. A capture damaged part-way is surveyed up to the damage.
 CaptureSurvey survey_capture(const CaptureOpener& open, const ReplayOptions& options);
 
-// Pass 2 alone: decodes the capture as `survey` says, into `sink`. Several decoding passes
-// (identification, then the report) may share one survey.
-void decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
-                    const ReplayOptions& options, RecordSink& sink);
+// Pass 2 alone: decodes the capture as `survey` says, into `sink`, and returns the survey's
+// info with the resolution the reads showed while decoding (CaptureInfo::learned_resolution).
+// Several decoding passes (identification, then the report) may share one survey. Damaged
+// input throws InputError after every record before the damage was delivered; with `damage`
+// given, its message goes there instead.
+CaptureInfo decode_capture(const CaptureOpener& open, const CaptureSurvey& survey,
+                           const ReplayOptions& options, RecordSink& sink,
+                           std::string* damage = nullptr);
 
 // Pass 1 without the pass, where the capture declares all that decoding needs (a live
 // recording or `export --raw` declares line settings, resolution and response timeout) and
@@ -105,7 +109,8 @@ std::optional<CaptureSurvey> declared_survey(const CaptureOpener& open,
 
 // Pass 2 with pass 1 alongside, on the reading thread: decodes as decode_capture does with
 // `survey` from declared_survey, and returns the capture's info as survey_capture would have
-// given it, its warnings shown at the end. A
+// given it (with the resolution learned while decoding, as decode_capture gives it), its
+// warnings shown at the end. A
 // sink that needs the warnings before the records (a JSONL header) cannot use this.
 // nullopt (nothing shown) when the whole capture says to decode otherwise than its start did
 // (a response timeout declared only later): then what `sink` got is void, and the capture

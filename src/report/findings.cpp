@@ -416,9 +416,9 @@ void per_slave_rules(const TrafficStats& stats, Builder& b) {
                       "answers, not slow ones"
                     : "the slave's latency has a long tail; a master timeout below the safe "
                       "value drops some of its answers";
-      if (info.timing_resolution > kNanosPerMilli) {
+      if (info.resolution_at_end() > kNanosPerMilli) {
         f.cause += fmt::format(" (latencies are known to ±{:.0f} ms in this capture)",
-                               ms(info.timing_resolution));
+                               ms(info.resolution_at_end()));
       }
       ev(f, "responses", static_cast<double>(n));
       ev(f, "latency_p99", ms(s.latency.quantile(0.99)), "ms");

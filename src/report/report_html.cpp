@@ -182,8 +182,7 @@ void summary(Out& o, const TrafficStats& stats) {
       fmt::format("{} / {}", t.issues[IssueId::kUnsolicited], t.issues[IssueId::kWrongSlave]));
   row("total-line-detail", "line errors: parity / framing / break / overrun",
       fmt::format("{} / {} / {} / {}", t.parity_errors, t.framing_errors, t.breaks, t.overruns));
-  row("total-resolution", "timing resolution (ms)",
-      fmt::format("{:.3f}", to_millis(info.timing_resolution)));
+  row("total-resolution", "timing resolution (ms)", resolution_text(info));
   row("total-timeout", "response timeout assumed (ms)",
       fmt::format("{:.0f}", to_millis(info.response_timeout)));
   put(o, "</tbody></table></div><div class=\"note\">");

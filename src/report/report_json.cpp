@@ -63,7 +63,12 @@ void write_capture(JsonWriter& j, const CaptureInfo& info) {
   j.key("t3_5_ms");
   write_ms(j, info.line.t3_5());
   j.key("timing_resolution_ms");
+  write_ms(j, info.resolution_at_end());
+  // What decoding started from (declared or estimated): below the above where the reads
+  // showed coarser timing while decoding (timing_resolution_learned).
+  j.key("timing_resolution_start_ms");
   write_ms(j, info.timing_resolution);
+  j.field("timing_resolution_learned", info.learned_resolution != kUnknownTime);
   j.field("per_byte_timing", info.per_byte_timing);
   j.key("response_timeout_ms");
   write_ms(j, info.response_timeout);
@@ -131,7 +136,7 @@ void write_totals(JsonWriter& j, const TrafficStats& stats) {
   j.field("t1_5_pauses", t.issues[IssueId::kT15]);
   j.field("t3_5_violations", t.issues[IssueId::kT35]);
   j.key("timing_resolution_ms");
-  write_ms(j, stats.capture().timing_resolution);
+  write_ms(j, stats.capture().resolution_at_end());
   j.field("slaves", static_cast<std::uint64_t>(slave_count(stats)));
   j.field("request_kinds", static_cast<std::uint64_t>(stats.request_kinds().size()));
   j.field("request_kinds_overflow", stats.request_kinds_overflow());

@@ -75,7 +75,7 @@ void write_report_text(OutputStream& out, const TrafficStats& stats,
   line(o, "  line errors       {} ({} parity, {} framing, {} break, {} overrun){}",
        t.line_error_records, t.parity_errors, t.framing_errors, t.breaks, t.overruns,
        glitch_line_errors(t));
-  line(o, "  timing resolution {:.3f} ms", to_millis(info.timing_resolution));
+  line(o, "  timing resolution {}", resolution_text(info));
   line(o, "");
 
   line(o, "FINDINGS");

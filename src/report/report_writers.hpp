@@ -3,7 +3,10 @@
 // scripts, HTML for a customer. All three say the same numbers.
 //
 // JSON keys (public; add, never rename):
-//   capture   {source, baud, parity, stop_bits, t1_5_ms, t3_5_ms, timing_resolution_ms,
+//   capture   {source, baud, parity, stop_bits, t1_5_ms, t3_5_ms, timing_resolution_ms (what
+//              the timestamps could show over the whole capture), timing_resolution_start_ms
+//              (what decoding started from: declared, chosen or estimated),
+//              timing_resolution_learned (the reads showed the coarser one while decoding),
 //              per_byte_timing, response_timeout_ms, timing_note}
 //   totals    {start, end (seconds, input clock), duration_s, records, frames, requests,
 //              responses, broadcasts, unknown_role, bytes, noise_records, noise_bytes,

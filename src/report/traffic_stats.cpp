@@ -111,11 +111,11 @@ void TrafficStats::on_capture(const CaptureInfo& info) {
 }
 
 bool TrafficStats::t15_observable() const {
-  return info_.timing_resolution < info_.line.t1_5();
+  return info_.resolution_at_end() < info_.line.t1_5();
 }
 
 bool TrafficStats::t35_observable() const {
-  return info_.timing_resolution < info_.line.t3_5();
+  return info_.resolution_at_end() < info_.line.t3_5();
 }
 
 SlaveStats& TrafficStats::slave_mut(std::uint8_t address) {

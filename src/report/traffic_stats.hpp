@@ -219,9 +219,10 @@ class TrafficStats : public RecordSink {
 
   void on_capture(const CaptureInfo& info) override;
   void on_record(Record& record) override;
-  // The capture's description once the whole capture was read, where it was surveyed while
-  // being decoded (decode_and_survey): the same settings as on_capture gave, now with the
-  // warnings and the per-byte timing only the whole capture tells.
+  // The capture's description once the whole capture was decoded: the same settings as
+  // on_capture gave, now with the resolution the reads showed while decoding
+  // (CaptureInfo::learned_resolution), and, where it was surveyed while being decoded
+  // (decode_and_survey), the warnings and the per-byte timing only the whole capture tells.
   void complete_capture(const CaptureInfo& info) { set_capture(info); }
   // What identification looked at, where it ran (the models it named are in the devices).
   void note_identification(const IdentificationSample& sample) { identification_ = sample; }

@@ -26,10 +26,10 @@ namespace {
 
 // What a capture's description tells the user, to compare two surveys.
 std::string described(const CaptureInfo& info) {
-  std::string text = info.source + " " + info.line.describe() + " " +
-                     std::to_string(info.timing_resolution) + " " +
-                     std::to_string(info.response_timeout) + " " +
-                     std::to_string(static_cast<int>(info.per_byte_timing));
+  std::string text =
+      info.source + " " + info.line.describe() + " " + std::to_string(info.timing_resolution) +
+      " " + std::to_string(info.learned_resolution) + " " + std::to_string(info.response_timeout) +
+      " " + std::to_string(static_cast<int>(info.per_byte_timing));
   for (const auto& warning : info.warnings) text += "\n" + warning;
   return text;
 }

@@ -429,8 +429,29 @@ def main():
     for key in ("baud", "parity", "stop_bits", "timing_resolution_ms"):
         if header[0].get(key) != rheader[0].get(key):
             fail(f"header {key}: live {header[0].get(key)}, replay {rheader[0].get(key)}")
+    # 7. Both reports judge timing by the resolution the reads showed by the end: the run's
+    # (its summary names one it learned) and that of a report of the recording.
+    learned = re.search(r"gaps below ([0-9.]+) ms were not observable", err)
+    run_capture = report["capture"]
+    if bool(learned) != run_capture["timing_resolution_learned"]:
+        fail(f"the run's summary {'names' if learned else 'names no'} a learned resolution, its "
+             f"report says {run_capture}")
+    # The summary rounds to 0.1 ms, the report to 0.001 ms.
+    if learned and abs(run_capture["timing_resolution_ms"] - float(learned.group(1))) > 0.051:
+        fail(f"the run learned {learned.group(1)} ms, its report says {run_capture}")
+    replayed_report = subprocess.run([args.rtuscope, "report", pcapng, "--format", "json", "-q"],
+                                     capture_output=True, text=True, timeout=60)
+    if replayed_report.returncode != 0:
+        fail(f"report {pcapng}: {replayed_report.stderr}")
+    replay_capture = json.loads(replayed_report.stdout)["capture"]
+    for key in ("timing_resolution_ms", "timing_resolution_start_ms", "timing_resolution_learned",
+                "timing_note"):
+        if run_capture[key] != replay_capture[key]:
+            fail(f"report {key}: run {run_capture[key]}, of the recording {replay_capture[key]}")
     print(f"OK: {len(bursts)} bursts captured, {answered} transactions paired, "
-          f"replay identical ({len(rbody)} records)")
+          f"replay identical ({len(rbody)} records), resolution "
+          f"{run_capture['timing_resolution_ms']} ms"
+          f"{' learned' if run_capture['timing_resolution_learned'] else ''} in both reports")
 
 
 if __name__ == "__main__":

@@ -19,6 +19,8 @@
 #include "core/issue.hpp"
 #include "pipeline/replay.hpp"
 #include "report/pcap_export.hpp"
+#include "report/timing_note.hpp"
+#include "report/traffic_stats.hpp"
 
 namespace rtu {
 namespace {
@@ -261,6 +263,69 @@ TEST(ReplayDriver, ADeclaredSurveyNeedsDeclarationsAndRawReadsAndGivesTheSurveys
     return std::make_unique<ScriptedReader>(undeclared_resolution);
   };
   EXPECT_TRUE(declared_survey(open_undeclared, options).has_value());
+}
+
+// A capture that declares a fine resolution, but whose reads arrive in batches with silences
+// inside CRC-valid frames (an adapter's delivery), teaches the framing a coarser one. The
+// decoding tells it at the end, alike with the survey first and alongside, and a report
+// judges by it: t3.5 (2.0 ms at 19200 baud) is not observable through a 5.7 ms blur.
+TEST(ReplayDriver, TheResolutionTheReadsShowedIsToldAtTheEndAndReportsJudgeByIt) {
+  Script script;
+  script.declared_line = LineSettings{19200, Parity::kEven, 1};
+  script.declared_resolution = 1 * kMs;
+  const auto split = [&](Nanos t, const Bytes& frame) {
+    // The first half comes in one read, the rest in the next, 8 ms later.
+    const auto half = static_cast<std::ptrdiff_t>(frame.size() / 2);
+    script.items.push_back({Item::Kind::kChunk, t, Bytes(frame.begin(), frame.begin() + half)});
+    script.items.push_back(
+        {Item::Kind::kChunk, t + 8 * kMs, Bytes(frame.begin() + half, frame.end())});
+  };
+  for (int i = 0; i < 40; ++i) {
+    split((10 + 100 * i) * kMs, kRequest);
+    split((60 + 100 * i) * kMs, kResponse);
+  }
+  const CaptureOpener open = [&](WarningSink) { return std::make_unique<ScriptedReader>(script); };
+  ReplayOptions options;
+  options.show_warnings = false;
+  TrafficStats surveyed_first(nullptr);
+  const CaptureInfo info = replay_capture(open, options, surveyed_first);
+  EXPECT_EQ(info.timing_resolution, 1 * kMs);  // what decoding started from, as declared
+  ASSERT_NE(info.learned_resolution, kUnknownTime);
+  // 8 ms between the reads, less the second half's own 4 or 3 characters (0.57 ms each).
+  EXPECT_GT(info.learned_resolution, 5 * kMs);
+  EXPECT_LT(info.learned_resolution, 8 * kMs);
+  EXPECT_EQ(info.resolution_at_end(), info.learned_resolution);
+
+  const auto declared = declared_survey(open, options);
+  ASSERT_TRUE(declared.has_value());
+  TrafficStats alongside(nullptr);
+  const auto one_read = decode_and_survey(open, *declared, options, alongside);
+  ASSERT_TRUE(one_read.has_value());
+  EXPECT_EQ(one_read->learned_resolution, info.learned_resolution);
+
+  // What a report says of it: before the end it knew only the declared resolution.
+  EXPECT_TRUE(alongside.t35_observable());
+  alongside.complete_capture(*one_read);
+  EXPECT_FALSE(alongside.t35_observable());
+  EXPECT_FALSE(alongside.t15_observable());
+  EXPECT_EQ(resolution_text(*one_read),
+            fmt::format("{:.3f} ms (learned from the reads: decoding started from 1.000 ms)",
+                        to_millis(info.learned_resolution)));
+  EXPECT_NE(timing_note(*one_read).find("not observable"), std::string::npos);
+
+  // Reads that show no silence inside a frame teach nothing: nothing learned is told.
+  Script whole_frames = script;
+  whole_frames.items.clear();
+  for (int i = 0; i < 40; ++i) {
+    whole_frames.items.push_back({Item::Kind::kChunk, (10 + 100 * i) * kMs, kRequest});
+    whole_frames.items.push_back({Item::Kind::kChunk, (60 + 100 * i) * kMs, kResponse});
+  }
+  CollectingSink sink;
+  const CaptureInfo plain = replay_capture(
+      [&](WarningSink) { return std::make_unique<ScriptedReader>(whole_frames); }, options, sink);
+  EXPECT_EQ(plain.learned_resolution, kUnknownTime);
+  EXPECT_EQ(plain.resolution_at_end(), 1 * kMs);
+  EXPECT_EQ(resolution_text(plain), "1.000 ms");
 }
 
 std::vector<Bytes> decode_file(const std::string& path) {

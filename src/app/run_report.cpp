@@ -15,7 +15,7 @@ RunReport::RunReport(DeviceSetup& devices)
 
 void RunReport::finish(Nanos resolution_at_end) {
   CaptureInfo info = stats_.capture();
-  if (resolution_at_end > info.timing_resolution) info.learned_resolution = resolution_at_end;
+  info.end_at_resolution(resolution_at_end);
   stats_.complete_capture(info);
   devices_.table.assign_identified(identifier_.ranking());  // configured slaves keep theirs
   findings_ = find_problems(stats_);

@@ -31,6 +31,11 @@ struct CaptureInfo {
   [[nodiscard]] Nanos resolution_at_end() const {
     return learned_resolution != kUnknownTime ? learned_resolution : timing_resolution;
   }
+  // Notes the resolution decoding ended with (DecodePipeline::timing_resolution): learned
+  // only where above the starting one.
+  void end_at_resolution(Nanos at_end) {
+    if (at_end > timing_resolution) learned_resolution = at_end;
+  }
 };
 
 }  // namespace rtu

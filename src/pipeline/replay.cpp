@@ -359,8 +359,7 @@ class DecodingRun {
   // where the reads raised it; only once ended().
   [[nodiscard]] CaptureInfo info_at_end() const {
     CaptureInfo info = survey_.info;
-    const Nanos at_end = framing_ ? framing_->resolution_at_end() : resolution_at_end_;
-    if (at_end > info.timing_resolution) info.learned_resolution = at_end;
+    info.end_at_resolution(framing_ ? framing_->resolution_at_end() : resolution_at_end_);
     return info;
   }
   // Reading has ended (the pass ran to the end, or the reader threw).

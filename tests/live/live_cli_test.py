@@ -13,6 +13,7 @@
 import argparse
 import json
 import os
+import select
 import shutil
 import signal
 import subprocess
@@ -60,6 +61,18 @@ def bus_log(path):
                 t, hexbytes = line.split()
                 out.append((float(t), hexbytes))
     return out
+
+
+def read_exactly(fd, count, deadline=10.0):
+    """`count` bytes from `fd`, or fewer if the deadline passes first."""
+    got = b""
+    end = time.monotonic() + deadline
+    while len(got) < count:
+        left = end - time.monotonic()
+        if left <= 0 or not select.select([fd], [], [], left)[0]:
+            break
+        got += os.read(fd, count - len(got))
+    return got
 
 
 def decode(rtuscope, path):
@@ -125,8 +138,13 @@ def two_ports(args):
     log_b = os.path.join(args.work, "slave_line.hex")
     capture = os.path.join(args.work, "two.pcapng")
     out = os.path.join(args.work, "two.jsonl")
-    bus_a, (master, tap_a) = start_bus(args.vbus, 2, log_a)
-    bus_b, (slave, tap_b) = start_bus(args.vbus, 2, log_b)
+    # Each line has a third endpoint where the other side listens: the slave answers only
+    # once its line has carried the whole request, and the master asks again only once the
+    # answer has been carried, as on a real link. A stall of this machine then delays the
+    # exchange but cannot squeeze two requests into one burst ahead of their answers, which
+    # would be a different bus from the one the expectations below describe.
+    bus_a, (master, tap_a, slave_rx) = start_bus(args.vbus, 3, log_a)
+    bus_b, (slave, tap_b, master_rx) = start_bus(args.vbus, 3, log_b)
     procs = [bus_a, bus_b]
     pairs = 20
     try:
@@ -137,18 +155,25 @@ def two_ports(args):
         procs.append(live)
         wait_listening(live)
         fa, fb = open_endpoint(master), open_endpoint(slave)
+        heard_a, heard_b = open_endpoint(slave_rx), open_endpoint(master_rx)
         for i in range(pairs):
-            os.write(fa, with_crc([5, 3, 0, i, 0, 1]))
-            time.sleep(0.012)  # the request's 8 bytes take 4.6 ms at 19200
-            os.write(fb, with_crc([5, 3, 2, 0, i]))
-            time.sleep(0.04)
+            request = with_crc([5, 3, 0, i, 0, 1])
+            os.write(fa, request)
+            if read_exactly(heard_a, len(request)) != request:
+                fail(f"the master's line did not carry request {i} whole")
+            time.sleep(0.02)  # the slave's turnaround: room for a stall of the listener too
+            response = with_crc([5, 3, 2, 0, i])
+            os.write(fb, response)
+            if read_exactly(heard_b, len(response)) != response:
+                fail(f"the slave's line did not carry response {i} whole")
+            time.sleep(0.03)
         time.sleep(0.3)
         live.send_signal(signal.SIGTERM)
         live.wait(timeout=20)
         if live.returncode != 0:
             fail(f"live exited {live.returncode}")
-        os.close(fa)
-        os.close(fb)
+        for fd in (fa, fb, heard_a, heard_b):
+            os.close(fd)
     finally:
         stop_all(procs)
     with open(out) as f:

@@ -107,8 +107,8 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
   // The byte's position, a new one, is marked not looked at yet by the caller.
   const auto store_byte = [&](std::size_t i, Nanos end, Nanos gap) {
     bytes_[end_] = bytes[i];
-    info_[end_] =
-        ByteInfo{end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}};
+    info_[end_] = ByteInfo{
+        end, gap, origin, chunk_size, errors != nullptr ? errors[i] : std::uint8_t{0}, i == 0};
     ++end_;
   };
   if (n == 1) {
@@ -158,8 +158,12 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
       ByteInfo* const to = info_.data() + end_;
       for (std::size_t k = 0; k < count; ++k) {
         last_end += char_time;
-        to[k] = ByteInfo{last_end, kUnknownTime, origin, chunk_size,
-                         errors != nullptr ? errors[i + k] : std::uint8_t{0}};
+        to[k] = ByteInfo{last_end,
+                         kUnknownTime,
+                         origin,
+                         chunk_size,
+                         errors != nullptr ? errors[i + k] : std::uint8_t{0},
+                         false};
       }
       end_ += count;
       i = stretch_end;
@@ -224,6 +228,24 @@ void Framer::decide(bool at_end) {
 
 bool Framer::boundary_at(std::size_t pos) const {
   return pos < buffered() && silence_before(info_at(pos).gap_before);
+}
+
+// Bytes [pos, pos + length) are one read, whole: the adapter handed them over apart from
+// what came before and after. Adapters that deliver when the line goes idle (CH340, CP210x,
+// PL2303) hand over a frame a read at a time, so where the timestamps cannot show the
+// silence between frames, a read that begins and ends exactly where a CRC holds still shows
+// it. One read, not several: an adapter that delivers on a timer cuts its reads anywhere, and
+// among the ends of many reads one falls on a chance CRC zero far too often.
+bool Framer::read_bounded(std::size_t pos, std::size_t length) const {
+  const ByteInfo& first = info_at(pos);
+  return first.read_start && first.chunk_size == length;
+}
+
+bool Framer::only_zero_bytes(std::size_t from, std::size_t to) const {
+  for (std::size_t p = from; p < to; ++p) {
+    if (byte_at(p) != 0x00) return false;
+  }
+  return true;
 }
 
 // At least t3.5 of silence beyond what the resolution may hide. The resolution is on the
@@ -364,8 +386,14 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
                                        bool* pending) const {
   const std::size_t avail = buffered() - pos;
   const CrcScan& scan = extended_scan(pos);
-  // Where the CRC holds, a frame ends if a silence or another frame follows.
+  // Where the CRC holds, a frame ends if a silence or another frame follows; failing both,
+  // where its read ends, if that is its first CRC zero (a frame's own end, where a frame
+  // starts here) or only bytes 00 lie between the two (a CRC ending in 00 holds without that
+  // byte too), and only once no longer length can still be confirmed by what follows it.
   std::size_t found = 0;
+  std::size_t read_bounded_length = 0;
+  std::size_t first_zero = 0;
+  bool longer_may_confirm = false;
   const bool decided = scan.found_zero && scan.any_zero_length([&](std::size_t len) {
     const std::size_t next = pos + len;
     if (next == buffered()) {
@@ -381,10 +409,18 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
       found = len;
       return true;
     }
-    if (next_pending) answer_may_change_ = true;  // the frame after may still come
+    if (next_pending) {
+      answer_may_change_ = true;  // the frame after may still come
+      longer_may_confirm = true;
+    }
+    if (first_zero == 0) first_zero = len;
+    if (read_bounded(pos, len) && only_zero_bytes(pos + first_zero, pos + len)) {
+      read_bounded_length = len;
+    }
     return false;
   });
   if (decided) return found;
+  if (read_bounded_length > 0 && !longer_may_confirm) return read_bounded_length;
   if (!scan.ended_at_silence && !at_end && avail < kMaxAdu) *pending = true;
   return 0;
 }

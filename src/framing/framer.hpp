@@ -154,6 +154,7 @@ class Framer {
     std::uint64_t origin = 0;
     std::uint16_t chunk_size = 0;  // bytes in the read this byte came in
     std::uint8_t errors = 0;
+    bool read_start = false;  // the first byte of its read
   };
 
   enum class Verdict : std::uint8_t { kEmitted, kWait };
@@ -223,6 +224,8 @@ class Framer {
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
+  [[nodiscard]] bool read_bounded(std::size_t pos, std::size_t length) const;
+  [[nodiscard]] bool only_zero_bytes(std::size_t from, std::size_t to) const;
   [[nodiscard]] bool silence_before(Nanos gap) const { return gap >= t3_5_ + resolution_; }
   CrcScan& extended_scan(std::size_t pos) const;
   void run_crc_on(std::size_t pos, CrcScan& scan, std::size_t limit) const;
@@ -356,7 +359,7 @@ inline bool Framer::push_first_byte_if_it_waits(std::uint8_t byte, Nanos now,
   const std::uint64_t window_end = consumed_ + 1;
   settled_.clear(consumed_ % kWindow);  // a new position, not looked at yet
   bytes_[end_] = byte;
-  info_[end_] = ByteInfo{end, gap, origin, 1, 0};
+  info_[end_] = ByteInfo{end, gap, origin, 1, 0, true};
   ++end_;
   ++chunks_;
   watching_reads_ = true;
@@ -405,7 +408,7 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
     if (silence_before(gap)) break;
     settled_.clear((first_end - 1 + k) % kWindow);  // a new position, not looked at yet
     to_bytes[k] = bytes[k];
-    to_info[k] = ByteInfo{end, gap, origin + k, 1, 0};
+    to_info[k] = ByteInfo{end, gap, origin + k, 1, 0, true};
     newest = std::max(newest, now);
     last = end;
   }

@@ -224,6 +224,54 @@ TEST(FramerResync, VendorFunctionsPolledBackToBackThroughUsbStillFrame) {
   EXPECT_EQ(bytes_of(records[1]), vendor_answer);
 }
 
+// Adapters that deliver when the line goes idle (CH340, CP210x, PL2303) hand over a frame a
+// read at a time, and reads that follow one another that closely look like a slow adapter's
+// batches: the capture's resolution is then about the time from one frame to the next, and no
+// silence is observable. Frames with no length rule then have only their reads to end them:
+// a bus polled with a vendor function code decoded to nothing but noise.
+TEST(FramerResync, VendorFunctionsReadAFrameAtATimeEndWhereTheirReadsEnd) {
+  BusBuilder bus;
+  std::vector<std::vector<std::uint8_t>> sent;
+  for (std::size_t n = 0; n < 30; ++n) {
+    std::vector<std::uint8_t> body = {0x07, 0x41};
+    const std::size_t data = n % 2 == 0 ? 4 : 6 + (n * 7) % 30;  // a request, then its answer
+    for (std::size_t i = 0; i < data; ++i) body.push_back(static_cast<std::uint8_t>(n * 31 + i));
+    sent.push_back(with_crc(body));
+    bus.add(sent.back(), (n % 2 == 0 ? 20 : 3) * kMs);
+  }
+  // A CRC ending in 00 holds without that byte too: the read still ends the frame.
+  const std::vector<std::uint8_t> crc_ends_in_00 = {0x07, 0x41, 0x00, 0x10, 0x00, 0x88, 0x3C, 0x00};
+  ASSERT_EQ(crc_ends_in_00, with_crc({0x07, 0x41, 0x00, 0x10, 0x00, 0x88}));
+  sent.push_back(crc_ends_in_00);
+  bus.add(crc_ends_in_00, 20 * kMs);
+  sent.push_back(with_crc({0x07, 0x41, 0x0E, 0x0A, 0x51, 0x77}));
+  bus.add(sent.back(), 3 * kMs);
+  const auto records = run(bus.per_add(), bus.line(), 27 * kMs);
+  ASSERT_EQ(records.size(), sent.size());
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    EXPECT_EQ(records[i].kind, RecordKind::kFrame) << i;
+    EXPECT_EQ(bytes_of(records[i]), sent[i]) << i;
+    EXPECT_TRUE(records[i].crc_ok) << i;
+  }
+}
+
+// The reads' ends are the weakest evidence: where a read ends exactly on a CRC zero but what
+// follows confirms a longer frame (a CRC whose last byte is 00 holds without that byte too),
+// the longer frame wins.
+TEST(FramerResync, AReadEndingOnACrcZeroYieldsToALongerFrameThatWhatFollowsConfirms) {
+  const std::vector<std::uint8_t> echo = {0x11, 0x08, 0x00, 0x00, 0x00, 0xDA, 0x63, 0x00};
+  ASSERT_EQ(echo, with_crc({0x11, 0x08, 0x00, 0x00, 0x00, 0xDA}));
+  std::vector<std::uint8_t> rest = {0x00};
+  rest.insert(rest.end(), kReadRequest.begin(), kReadRequest.end());
+  BusBuilder bus;
+  bus.add({echo.begin(), echo.end() - 1}, 0).add(rest, 0).add(kReadResponse, 3 * kMs);
+  const auto records = run(bus.per_add(), bus.line(), 27 * kMs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(bytes_of(records[0]), echo);
+  EXPECT_EQ(bytes_of(records[1]), kReadRequest);
+  EXPECT_EQ(bytes_of(records[2]), kReadResponse);
+}
+
 TEST(FramerResync, DiagnosticEchoWithTruncatedAnswerSplitsAtTheCrcValidPrefix) {
   const auto echo = with_crc({0x11, 0x08, 0x00, 0x00, 0x5D, 0x28, 0xEB, 0x34, 0x59, 0x43});
   const std::vector<std::uint8_t> truncated(echo.begin(), echo.begin() + 8);

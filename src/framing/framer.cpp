@@ -736,7 +736,9 @@ void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
 
   // Timing, only where the timestamps can show it. The longest silence inside the frame
   // decides both what it teaches and whether it breaks t1.5.
-  if (rec.crc_ok && longest_inner_gap > resolution_) learn_from(length);
+  if (rec.crc_ok && rec.shape_fit != kFitsNone && longest_inner_gap > resolution_) {
+    learn_from(length);
+  }
   const Nanos res = resolution_;
   if (longest_inner_gap != kUnknownTime && longest_inner_gap - res > t1_5_) {
     rec.issues.add(IssueId::kT15);
@@ -791,6 +793,13 @@ bool Framer::reads_are_batched() const {
 // anything shorter. Learned before the frame's own checks, so a USB packet boundary
 // inside a frame is never reported as a t1.5 violation. A per-byte source never teaches
 // this: there a pause inside a frame is a real one.
+//
+// Only a frame whose length its function code foretells teaches (emit_frame()). One with no
+// length rule may be a chance CRC zero over several frames: the silences between them, taken
+// for an adapter's delay, raised the resolution, which hid more silences, which let the next
+// chance zero through, until frames with no length rule (they end at silences) were found no
+// more. The price: on a bus of such frames alone, a read that came later than the resolution
+// inside one of them is a t1.5 issue.
 void Framer::learn_from(std::size_t length) {
   if (!config_.learn_resolution || config_.per_byte_exact || !reads_are_batched()) return;
   for (std::size_t i = 1; i < length; ++i) {

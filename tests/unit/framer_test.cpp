@@ -272,6 +272,49 @@ TEST(FramerResync, AReadEndingOnACrcZeroYieldsToALongerFrameThatWhatFollowsConfi
   EXPECT_EQ(bytes_of(records[2]), kReadResponse);
 }
 
+// A CRC-valid frame cut by a read boundary with a gap shows how late the adapter delivered,
+// but only a frame whose length its function code foretells says so: a frame with no length
+// rule may be a chance CRC zero over several frames, whose silences, learned as delays,
+// hid the silences that end such frames for the rest of the capture.
+TEST(FramerResync, OnlyAFrameOfAForetoldLengthTeachesTheResolution) {
+  const LineSettings line;
+  const Nanos ct = line.char_time();
+  const Nanos gap = 2 * kMs;  // above the resolution, below t3.5 beyond it: no silence
+  ASSERT_LT(gap, line.t3_5() + kMs);
+  const auto vendor = with_crc({0x07, 0x41, 1, 2, 3, 4, 5, 6, 7, 8});
+  const auto read_response = kReadResponse;
+  CollectingSink sink;
+  Framer framer(FramerConfig{line, kMs}, sink);
+  Nanos t = 100 * kMs;
+  std::uint64_t origin = 1;
+  // A frame in two reads, the second `gap` later than the line allows, then 50 ms of quiet.
+  const auto send_cut = [&](const std::vector<std::uint8_t>& frame) {
+    const std::size_t half = frame.size() / 2;
+    Chunk first;
+    first.bytes = std::span(frame).first(half);
+    first.t_end = t + static_cast<Nanos>(half) * ct;
+    first.origin = origin++;
+    Chunk second;
+    second.bytes = std::span(frame).subspan(half);
+    second.t_end = first.t_end + gap + static_cast<Nanos>(frame.size() - half) * ct;
+    second.origin = origin++;
+    framer.advance(first.t_end - 1);
+    framer.push(first);
+    framer.push(second);
+    t = second.t_end + 50 * kMs;
+    framer.advance(t);
+  };
+  send_cut(vendor);
+  ASSERT_EQ(sink.records.size(), 1U);
+  EXPECT_EQ(bytes_of(sink.records[0]), vendor);
+  EXPECT_EQ(framer.resolution(), kMs);
+  send_cut(kReadRequest);
+  send_cut(read_response);
+  ASSERT_EQ(sink.records.size(), 3U);
+  EXPECT_EQ(bytes_of(sink.records[2]), kReadResponse);
+  EXPECT_EQ(framer.resolution(), gap);
+}
+
 TEST(FramerResync, DiagnosticEchoWithTruncatedAnswerSplitsAtTheCrcValidPrefix) {
   const auto echo = with_crc({0x11, 0x08, 0x00, 0x00, 0x5D, 0x28, 0xEB, 0x34, 0x59, 0x43});
   const std::vector<std::uint8_t> truncated(echo.begin(), echo.begin() + 8);

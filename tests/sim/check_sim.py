@@ -179,6 +179,33 @@ def check_chunking(sim):
             expect(t >= last_byte_end, f"USB chunk at {t} precedes its last byte's end {last_byte_end}")
             i += len(c)
             prev = t
+    # An adapter that sends once the line is idle: with no jitter, every read ends at a byte
+    # the wire shows followed by that much silence, or as a full packet, and holds no such
+    # silence inside.
+    idle_ns = 4 * 11 * 10**9 // 19200
+    per = sim.run("chunk_idle_per", "--seed", "5", "--transactions", "300", "--faults", "0.1",
+                  "--baud", "19200", "--chunking", "perbyte")
+    idle = sim.run("chunk_idle", "--seed", "5", "--transactions", "300", "--faults", "0.1",
+                   "--baud", "19200", "--chunking", "idle", "--idle-chars", "4", "--packet", "32",
+                   "--jitter-us", "0")
+    _, pchunks = read_hex(per["hex"])
+    _, ichunks = read_hex(idle["hex"])
+    ends = [t for t, _ in pchunks]
+    expect(b"".join(c for _, c in pchunks) == b"".join(c for _, c in ichunks),
+           "per-byte and idle-flush captures carry different bytes")
+    i = 0
+    for t, c in ichunks:
+        last = i + len(c) - 1
+        for k in range(i + 1, last + 1):
+            expect(ends[k] - ends[k - 1] - 11 * 10**9 // 19200 <= idle_ns + 10,
+                   f"idle-flush read at {t} holds a silence longer than the idle wait")
+        silent_after = last + 1 == len(ends) or \
+            ends[last + 1] - 11 * 10**9 // 19200 - ends[last] > idle_ns - 10
+        expect(silent_after or len(c) % 32 == 0,
+               f"idle-flush read at {t} ends before the line is idle")
+        expect(t >= ends[last], f"idle-flush read at {t} precedes its last byte's end")
+        i = last + 1
+    expect(len(ichunks) < len(pchunks) / 4, "the idle-flush model hardly batches anything")
     # Packets never exceed the packet size unless the host merged them; with no jitter and a
     # long latency timer, a full packet is sent as soon as it is full.
     big = sim.run("chunk_packet", "--seed", "3", "--transactions", "200", "--chunking", "usb",

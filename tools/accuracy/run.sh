@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Accuracy benchmark: simulated traffic with exact ground truth, decoded by rtuscope, scored
-# by score.py. Configurations: {per-byte, USB-chunked} × {clean, 5% faults} × {9600, 19200,
-# 115200 baud}, several seeds each. A configuration passes at ≥ 99.9% frame recall and
+# by score.py. Configurations: {per-byte, USB-chunked, idle-flush} × {clean, 5% faults} ×
+# {9600, 19200, 115200 baud}, several seeds each (idle-flush: an adapter that sends once the
+# line has been idle 4 character times, in packets of up to 32 bytes, as CH34x-like chips and
+# a UART's character timeout deliver). A configuration passes at ≥ 99.9% frame recall and
 # precision when clean and ≥ 99% with faults, with every byte accounted for.
 #
 #   tools/accuracy/run.sh [BUILD_DIR]     (default: build, a Release build)
@@ -9,9 +11,11 @@
 #
 # PROFILE=heavy runs the sick-bus profile instead (rtusim --profile heavy: 10% of the
 # transactions faulty, damage in any byte, noise touching frames, glitch bytes, early
-# responses, absent slaves; see tools/sim/fault_injector.hpp): {per-byte, USB-chunked} ×
-# {9600, 19200, 115200}, 4 seeds, target 99%. Each USB seed gets its own adapter: latency
-# timer and packet size from USB_ADAPTERS (ms:bytes, taken in turn). Every heavy run is
+# responses, absent slaves; see tools/sim/fault_injector.hpp): {per-byte, USB-chunked,
+# idle-flush} × {9600, 19200, 115200}, 4 seeds, target 99%. Each USB seed gets its own
+# adapter: latency timer and packet size from USB_ADAPTERS (ms:bytes, taken in turn); each
+# idle-flush seed its idle wait and packet size from IDLE_ADAPTERS (character times:bytes).
+# Every heavy run is
 # also decoded by ref_decoder.py (a small CRC-resync decoder, the baseline; REFERENCE=0
 # skips it), and misses.py sorts the frames rtuscope missed into classes (MISSES=0 skips).
 #
@@ -43,6 +47,8 @@ case $profile in
     # Latency timers of 1-16 ms and packets of 4-62 data bytes (FTDI: 62 of 64; small
     # packets stand for adapters and drivers that hand over a few bytes at a time).
     read -r -a usb_adapters <<<"${USB_ADAPTERS:-16:62 1:4 4:16 8:32 2:8 12:48}"
+    # Adapters that send once the line is idle (idle character times:packet bytes).
+    read -r -a idle_adapters <<<"${IDLE_ADAPTERS:-4:32 1.5:32 8:62 2:16}"
     ;;
   *)
     echo "run.sh: PROFILE is classic or heavy, not '$profile'" >&2
@@ -70,7 +76,7 @@ ref_manifest=$work/reference.tsv
 : >"$manifest"
 : >"$ref_manifest"
 
-for chunking in perbyte usb; do
+for chunking in perbyte usb idle; do
   for mode in $modes; do
     for baud in 9600 19200 115200; do
       case $mode in
@@ -86,6 +92,11 @@ for chunking in perbyte usb; do
         if [ "$mode" = heavy ] && [ "$chunking" = usb ]; then
           adapter=${usb_adapters[$((n % ${#usb_adapters[@]}))]}
           usb_args=(--latency-ms "${adapter%%:*}" --packet "${adapter##*:}")
+        elif [ "$mode" = heavy ] && [ "$chunking" = idle ]; then
+          adapter=${idle_adapters[$((n % ${#idle_adapters[@]}))]}
+          usb_args=(--idle-chars "${adapter%%:*}" --packet "${adapter##*:}")
+        elif [ "$chunking" = idle ]; then
+          usb_args=(--idle-chars 4 --packet 32)
         fi
         n=$((n + 1))
         # Each baud rate gets its own traffic; per-byte and USB runs share theirs.

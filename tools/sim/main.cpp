@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
   std::size_t packet = 62;
   double jitter_us = 2000;
   double usb_frame_us = 1000;
+  double idle_chars = 4;
   double cycle_ms = 500;
   double master_timeout_ms = 200;
   double start_s = 0;
@@ -91,8 +92,10 @@ int main(int argc, char** argv) {
   app.add_option("--pcapng", pcapng_path,
                  "the same reads as --out, recorded as `rtuscope live -w` records them "
                  "(FILE.pcapng; the timing resolution declared, no response timeout)");
-  app.add_option("--chunking", chunking, "perbyte: one byte per line; usb: FTDI-like reads")
-      ->check(CLI::IsMember({"perbyte", "usb"}));
+  app.add_option("--chunking", chunking,
+                 "perbyte: one byte per line; usb: FTDI-like reads (a latency timer); idle: "
+                 "reads an adapter sends once the line is idle (--idle-chars)")
+      ->check(CLI::IsMember({"perbyte", "usb", "idle"}));
   app.add_option("--seed", seed, "random seed; same seed and options give identical files");
   app.add_option("--duration", duration_s, "stop after this many seconds of traffic")
       ->check(CLI::PositiveNumber);
@@ -126,6 +129,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e6));
   app.add_option("--usb-frame-us", usb_frame_us, "USB frame period (1000 full speed, 125 high)")
       ->check(CLI::Range(1.0, 1e4));
+  app.add_option("--idle-chars", idle_chars,
+                 "with --chunking idle: character times of idle line after which the adapter "
+                 "sends what it holds")
+      ->check(CLI::Range(0.5, 1000.0));
   app.add_option("--cycle-ms", cycle_ms, "poll cycle period of the master")
       ->check(CLI::Range(1.0, 1e6));
   app.add_option("--master-timeout-ms", master_timeout_ms,
@@ -193,14 +200,20 @@ int main(int argc, char** argv) {
       // What a live run would declare: the adapter's latency timer; for reads of one byte
       // each, stamped exactly, the finest resolution rtuscope takes (1 µs).
       rtu::Nanos resolution = rtu::kNanosPerMicro;
-      if (chunking == "usb") {
+      if (chunking == "usb" || chunking == "idle") {
         UsbAdapterModel model;
         model.latency = seconds_to_nanos(latency_ms / 1e3);
         model.packet = packet;
         model.jitter = seconds_to_nanos(jitter_us / 1e6);
         model.usb_frame = seconds_to_nanos(usb_frame_us / 1e6);
+        if (chunking == "idle") {
+          model.idle_flush =
+              static_cast<rtu::Nanos>(idle_chars * static_cast<double>(opt.line.char_time()));
+        }
         chunks = chunk_usb(timeline.bytes(), model, Rng(seed).fork(kUsbStream));
-        resolution = model.latency;
+        // How late a read may come after its bytes: the idle wait, a USB frame and the wake-up.
+        resolution =
+            chunking == "usb" ? model.latency : model.idle_flush + model.usb_frame + model.jitter;
       } else {
         chunks = chunk_per_byte(timeline.bytes());
       }

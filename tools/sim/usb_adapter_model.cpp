@@ -19,6 +19,19 @@ struct Packet {
   std::size_t count = 0;
 };
 
+// Puts byte `i`, which arrived at `arrive`, into the open packet, and sends the packet once it
+// holds `packet` bytes; returns whether it did.
+bool add_byte(Packet& open, std::size_t i, Nanos arrive, std::size_t packet,
+              std::vector<Packet>& packets) {
+  if (open.count == 0) open.first = i;
+  ++open.count;
+  if (open.count < packet) return false;
+  open.sent = arrive;
+  packets.push_back(open);
+  open.count = 0;
+  return true;
+}
+
 // The chip side: bytes in, packets out.
 std::vector<Packet> ftdi_packets(std::span<const WireByte> bytes, const UsbAdapterModel& m,
                                  Rng& rng) {
@@ -39,17 +52,30 @@ std::vector<Packet> ftdi_packets(std::span<const WireByte> bytes, const UsbAdapt
       // An idle timer keeps ticking: skip the expiries that found nothing to send.
       if (expiry <= arrive) expiry += ((arrive - expiry) / m.latency + 1) * m.latency;
     }
-    if (open.count == 0) open.first = i;
-    ++open.count;
-    if (open.count == m.packet) {
-      open.sent = arrive;
-      packets.push_back(open);
-      open.count = 0;
-      expiry = arrive + m.latency;
-    }
+    if (add_byte(open, i, arrive, m.packet, packets)) expiry = arrive + m.latency;
   }
   if (open.count > 0) {
     open.sent = expiry;
+    packets.push_back(open);
+  }
+  return packets;
+}
+
+// The chip side of an adapter that sends when the line goes idle: bytes in, packets out.
+std::vector<Packet> idle_flush_packets(std::span<const WireByte> bytes, const UsbAdapterModel& m) {
+  std::vector<Packet> packets;
+  Packet open{0, 0, 0};
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    // The line was idle from the last byte's end to this one's start.
+    if (open.count > 0 && bytes[i].start - bytes[i - 1].end > m.idle_flush) {
+      open.sent = bytes[i - 1].end + m.idle_flush;
+      packets.push_back(open);
+      open.count = 0;
+    }
+    add_byte(open, i, bytes[i].end, m.packet, packets);
+  }
+  if (open.count > 0) {
+    open.sent = bytes.back().end + m.idle_flush;
     packets.push_back(open);
   }
   return packets;
@@ -59,7 +85,8 @@ std::vector<Packet> ftdi_packets(std::span<const WireByte> bytes, const UsbAdapt
 
 std::vector<OutputChunk> chunk_usb(std::span<const WireByte> bytes, const UsbAdapterModel& m,
                                    Rng rng) {
-  const std::vector<Packet> packets = ftdi_packets(bytes, m, rng);
+  const std::vector<Packet> packets =
+      m.idle_flush > 0 ? idle_flush_packets(bytes, m) : ftdi_packets(bytes, m, rng);
   const Nanos frame_phase = rng.nanos(0, m.usb_frame - 1);
   // A packet reaches the host at the first USB frame boundary not before it was sent.
   const auto at_host = [&](const Packet& p) {

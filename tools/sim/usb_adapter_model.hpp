@@ -29,11 +29,18 @@ std::vector<OutputChunk> chunk_per_byte(std::span<const WireByte> bytes);
 // - the reading thread wakes up 0..`jitter` later and read() returns everything that has
 //   arrived by then, so a late wake-up merges packets into one chunk.
 // Chunk times are strictly increasing and never precede the end of the chunk's last byte.
+//
+// With `idle_flush` > 0, the chip is of the kind that sends what it holds once the line has
+// been idle that long (CH34x, CP210x, PL2303 as commonly described, and a 16550 UART's
+// character timeout of about 4 character times): no latency timer; a packet still goes out
+// when `packet` data bytes are waiting. A frame then comes a read at a time, unless the
+// silence after it is shorter than `idle_flush`.
 struct UsbAdapterModel {
   Nanos latency = 16 * kNanosPerMilli;
   std::size_t packet = 62;
   Nanos jitter = 2 * kNanosPerMilli;
   Nanos usb_frame = 1 * kNanosPerMilli;
+  Nanos idle_flush = 0;
 };
 
 std::vector<OutputChunk> chunk_usb(std::span<const WireByte> bytes, const UsbAdapterModel& model,

@@ -241,13 +241,6 @@ bool Framer::read_bounded(std::size_t pos, std::size_t length) const {
   return first.read_start && first.chunk_size == length;
 }
 
-bool Framer::only_zero_bytes(std::size_t from, std::size_t to) const {
-  for (std::size_t p = from; p < to; ++p) {
-    if (byte_at(p) != 0x00) return false;
-  }
-  return true;
-}
-
 // At least t3.5 of silence beyond what the resolution may hide. The resolution is on the
 // right so that an unknown gap (the smallest Nanos) fails the test without overflow.
 bool Framer::contiguous_at(std::size_t pos) const {
@@ -414,7 +407,9 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
       longer_may_confirm = true;
     }
     if (first_zero == 0) first_zero = len;
-    if (read_bounded(pos, len) && only_zero_bytes(pos + first_zero, pos + len)) {
+    const std::uint8_t* const at = bytes_.data() + begin_ + pos;
+    if (read_bounded(pos, len) &&
+        std::all_of(at + first_zero, at + len, [](std::uint8_t b) { return b == 0x00; })) {
       read_bounded_length = len;
     }
     return false;
@@ -736,9 +731,7 @@ void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
 
   // Timing, only where the timestamps can show it. The longest silence inside the frame
   // decides both what it teaches and whether it breaks t1.5.
-  if (rec.crc_ok && rec.shape_fit != kFitsNone && longest_inner_gap > resolution_) {
-    learn_from(length);
-  }
+  if (rec.crc_ok && longest_inner_gap > resolution_) learn_from(rec);
   const Nanos res = resolution_;
   if (longest_inner_gap != kUnknownTime && longest_inner_gap - res > t1_5_) {
     rec.issues.add(IssueId::kT15);
@@ -794,15 +787,18 @@ bool Framer::reads_are_batched() const {
 // inside a frame is never reported as a t1.5 violation. A per-byte source never teaches
 // this: there a pause inside a frame is a real one.
 //
-// Only a frame whose length its function code foretells teaches (emit_frame()). One with no
-// length rule may be a chance CRC zero over several frames: the silences between them, taken
-// for an adapter's delay, raised the resolution, which hid more silences, which let the next
-// chance zero through, until frames with no length rule (they end at silences) were found no
-// more. The price: on a bus of such frames alone, a read that came later than the resolution
+// Only a frame whose length its function code foretells teaches. One with no length rule
+// may be a chance CRC zero over several frames: the silences between them, taken for an
+// adapter's delay, raised the resolution, which hid more silences, which let the next chance
+// zero through, until frames with no length rule (they end at silences) were found no more.
+// The price: on a bus of such frames alone, a read that came later than the resolution
 // inside one of them is a t1.5 issue.
-void Framer::learn_from(std::size_t length) {
-  if (!config_.learn_resolution || config_.per_byte_exact || !reads_are_batched()) return;
-  for (std::size_t i = 1; i < length; ++i) {
+void Framer::learn_from(const Record& frame) {
+  if (!config_.learn_resolution || config_.per_byte_exact || !reads_are_batched() ||
+      frame.shape_fit == kFitsNone) {
+    return;
+  }
+  for (std::size_t i = 1; i < frame.size; ++i) {
     const ByteInfo& b = info_at(i);
     if (b.gap_before == kUnknownTime || b.gap_before <= resolution_) continue;
     if (b.chunk_size < 2 && info_at(i - 1).chunk_size < 2) continue;

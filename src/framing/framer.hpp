@@ -185,7 +185,8 @@ class Framer {
   std::size_t push_reads_to_waiting_head(const std::uint8_t* bytes, const Nanos* t_ends,
                                          std::uint64_t origin, std::size_t count, Nanos& latest);
   void slide_window();
-  void learn_from(std::size_t length);
+  // `frame`: the frame being emitted, still at the window's head.
+  void learn_from(const Record& frame);
   [[nodiscard]] bool reads_are_batched() const;
   void decide(bool at_end);
   Verdict decide_head(bool at_end);
@@ -225,7 +226,6 @@ class Framer {
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
   [[nodiscard]] bool read_bounded(std::size_t pos, std::size_t length) const;
-  [[nodiscard]] bool only_zero_bytes(std::size_t from, std::size_t to) const;
   [[nodiscard]] bool silence_before(Nanos gap) const { return gap >= t3_5_ + resolution_; }
   CrcScan& extended_scan(std::size_t pos) const;
   void run_crc_on(std::size_t pos, CrcScan& scan, std::size_t limit) const;

@@ -55,17 +55,27 @@ void plan_registers(const Space& space, std::uint32_t start, std::size_t bytes,
 }
 
 RegisterPlans::RegisterPlans(unsigned slot_bits)
-    : slot_bits_(clamp_slot_bits(slot_bits)), entries_(std::size_t{1} << slot_bits_) {}
+    : slot_bits_(clamp_slot_bits(slot_bits)),
+      entries_(std::size_t{2} << slot_bits_),
+      asked_last_(std::size_t{1} << slot_bits_, 0) {}
 
 std::span<const RegisterStep> RegisterPlans::of(const Space& space, std::uint32_t start,
                                                 std::size_t bytes) {
-  Entry& e = entries_[range_slot(space, start, bytes, slot_bits_)];
-  if (e.space != &space || e.start != start || e.bytes != bytes) {
-    e.space = &space;
-    e.start = start;
-    e.bytes = bytes;
-    plan_registers(space, start, bytes, e.steps);
+  const std::size_t slot = range_slot(space, start, bytes, slot_bits_);
+  for (std::uint8_t way = 0; way < 2; ++way) {
+    Entry& e = entries_[2 * slot + way];
+    if (e.space == &space && e.start == start && e.bytes == bytes) {
+      asked_last_[slot] = way;
+      return e.steps;
+    }
   }
+  const auto way = static_cast<std::uint8_t>(1 - asked_last_[slot]);
+  Entry& e = entries_[2 * slot + way];
+  asked_last_[slot] = way;
+  e.space = &space;
+  e.start = start;
+  e.bytes = bytes;
+  plan_registers(space, start, bytes, e.steps);
   return e.steps;
 }
 

@@ -56,8 +56,8 @@ TEST(RegisterPlans, ASplitCoversItsBytesOnceInOrderWithEveryKindOfStep) {
   EXPECT_GT(kinds[static_cast<std::size_t>(RegisterStep::Kind::kUndefined)], 100U);
 }
 
-// Tables of 2, 16 and 64 slots: in the small ones nearly every range shares its slot with
-// the range asked just before it, the same start with another length included.
+// Tables of 2, 16 and 64 slots (pairs): in the small ones nearly every range shares its slot
+// with the ranges asked just before it, the same start with another length included.
 TEST(RegisterPlans, RememberedSplitsAreTheUnrememberedOnesInAnyOrder) {
   const std::vector<SpaceRange> ranges = ranges_around_bundled_points();
   ASSERT_GT(ranges.size(), 1000U);  // far more than the default table holds

@@ -43,6 +43,22 @@ struct CrcScan {
     found_zero = true;
   }
 
+  // How many of `count` more bytes the search, its CRC known, runs on over before one
+  // brings a zero that counts (at kMinAdu bytes or more).
+  [[nodiscard]] std::size_t steps_without_zero(const std::uint8_t* bytes, std::size_t count) const {
+    std::uint16_t c = crc;
+    for (std::size_t k = 0; k < count; ++k) {
+      c = crc16_update(c, bytes[k]);
+      if (c == 0 && scanned + k + 1 >= kMinAdu) return k;
+    }
+    return count;
+  }
+  // The search, its CRC known, run on over `count` more bytes that bring no zero.
+  void run_on(const std::uint8_t* bytes, std::size_t count) {
+    for (std::size_t k = 0; k < count; ++k) crc = crc16_update(crc, bytes[k]);
+    scanned = static_cast<std::uint16_t>(scanned + count);
+  }
+
   // Calls f(length) for each zero length in ascending order until f returns true;
   // returns whether one did.
   template <typename F>

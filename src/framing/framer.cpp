@@ -522,6 +522,19 @@ bool Framer::crc_scan_still_quiet(std::size_t pos) const {
   return !scan.ended_at_silence && !scan.found_zero;
 }
 
+std::size_t Framer::quiet_crc_steps(const std::uint8_t* bytes, std::size_t count) const {
+  const CrcScan* const scan = crc_scans_.find(consumed_, resolution_);
+  if (scan == nullptr || !scan->crc_known || scan->found_zero || scan->ended_at_silence ||
+      scan->scanned != buffered()) {
+    return 0;
+  }
+  return scan->steps_without_zero(bytes, count);
+}
+
+void Framer::run_crc_steps(const std::uint8_t* bytes, std::size_t count) const {
+  crc_scans_.at(consumed_, resolution_).run_on(bytes, count);
+}
+
 // The start at `pos`, remembered as `quiet` and found still quiet, is watched from here on
 // where it waits on no CRC search, or its search covers the window up to its end (the
 // watch takes it on from there, see quiet_starts.hpp).

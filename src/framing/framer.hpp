@@ -200,6 +200,12 @@ class Framer {
                                SearchNotes* notes = nullptr) const;
   void note_crc_scan(std::size_t pos, SearchNotes& notes) const;
   bool crc_scan_still_quiet(std::size_t pos) const;
+  // For push_reads_to_waiting_head(), where the head waits on its CRC search: how many of
+  // the next `count` bytes keep it quiet (0 if the search cannot be run on, as where it does
+  // not cover the window)...
+  [[gnu::noinline]] std::size_t quiet_crc_steps(const std::uint8_t* bytes, std::size_t count) const;
+  // ... and the search run on over the `count` bytes then taken.
+  [[gnu::noinline]] void run_crc_steps(const std::uint8_t* bytes, std::size_t count) const;
   [[gnu::noinline]] void watch(std::size_t pos, const QuietStart& quiet);
   // Whether a quiet start at `pos` is worth watching (see quiet_starts.hpp): while reads
   // are watched (kWatchedReadsUpTo; a longer one ends every watch), and not the head, whose
@@ -310,14 +316,15 @@ class Framer {
 };
 
 // Most bytes of a per-byte read bring a frame no nearer to a decision: its head waits for a
-// predicted length (a request's fixed size, a response's byte count) that is not there yet.
-// push() would then find advance() with nothing to do, store the byte, and decide(false)
-// would run the watches on (none: only the mark moves), find the head's remembered answer,
-// "waits" (quiet_starts.hpp), look at the new byte for a silence (none: only that mark
-// moves), and wait. Here that is done directly, under exactly those conditions, all checked
-// before anything changes; anything else (a silence to decide, a watch, a search to make, a
-// silence before the byte, a full window, a head whose answer waits on its CRC search) is
-// left to push().
+// predicted length (a request's fixed size, a response's byte count) that is not there yet,
+// or a CRC zero (a function code with no length rule). push() would then find advance()
+// with nothing to do, store the byte, and decide(false) would run the watches on (none:
+// only the mark moves), find the head's remembered answer, "waits" (quiet_starts.hpp), run
+// the head's CRC search on by the byte (no zero), look at the new byte for a silence (none:
+// only that mark moves), and wait. Here that is done directly, under exactly those
+// conditions, all checked before anything changes; anything else (a silence to decide, a
+// watch, a search to make, a silence before the byte, a full window, a CRC zero, a CRC
+// search that does not cover the window) is left to push().
 inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64_t origin) {
   if (buffered() == 0) return push_first_byte_if_it_waits(byte, now, origin);
   Nanos latest = 0;
@@ -388,11 +395,17 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
   const std::uint64_t first_end = consumed_ + held + 1;  // the window's end with the first read
   if (silence_search_from_ != first_end - 1 || settled_.test(consumed_ % kWindow)) return 0;
   const QuietStart* head = quiet_starts_.find(consumed_, epoch_, first_end);
-  if (head == nullptr || head->watch_crc_scan || !head->pending) return 0;
+  if (head == nullptr || !head->pending) return 0;
   // The remembered answer holds while the window ends before head->until; the window's room
   // and the forced decision (kMaxPending) bound the run as they bound each read.
-  const std::size_t limit = static_cast<std::size_t>(std::min<std::uint64_t>(
+  // A head that waits on its CRC search (a function code with no length rule) waits on as
+  // long as the search, run on over the new bytes, finds no zero (nor a silence, as below).
+  const bool waits_on_crc = head->watch_crc_scan;
+  std::size_t limit = static_cast<std::size_t>(std::min<std::uint64_t>(
       {count, head->until - first_end, kWindow - end_, kMaxPending - (held + 1)}));
+  if (waits_on_crc) [[unlikely]] {
+    limit = quiet_crc_steps(bytes, limit);
+  }
   const Nanos quiet = quiet_to_decide();
   const Nanos char_time = char_time_;
   // In locals: the byte stores may alias any member.
@@ -413,6 +426,9 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
     last = end;
   }
   if (k == 0) return 0;
+  if (waits_on_crc) [[unlikely]] {
+    run_crc_steps(to_bytes, k);  // as extended_scan() would have
+  }
   const std::uint64_t window_end = first_end - 1 + k;
   end_ += k;
   chunks_ += k;

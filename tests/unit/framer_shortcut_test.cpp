@@ -66,6 +66,36 @@ BusBuilder sick_polling(std::uint32_t seed) {
   return bus;
 }
 
+// Frames that no length rule bounds, so that the head waits on its CRC search: a vendor's
+// function code, random slaves and function codes, some with a CRC-valid first part (a CRC
+// zero the search must stop at), mixed with polling, some back to back, some cut by noise.
+BusBuilder frames_of_no_length_rule(std::uint32_t seed) {
+  std::mt19937 random(seed);
+  BusBuilder bus;
+  const Nanos ch = bus.line().char_time();
+  const auto random_bytes = [&](std::size_t n) {
+    std::vector<std::uint8_t> bytes(n);
+    for (auto& b : bytes) b = static_cast<std::uint8_t>(random());
+    return bytes;
+  };
+  for (int i = 0; i < 300; ++i) {
+    std::vector<std::uint8_t> body = random_bytes(2 + random() % 50);
+    switch (random() % 4) {
+      case 0: body[1] = 0x41; break;  // a vendor's function code
+      case 1: break;                  // any slave and function code
+      case 2:
+        body[1] = 0x42;
+        body = with_crc(body);  // a frame with a CRC-valid first part
+        break;
+      default: body = {static_cast<std::uint8_t>(1 + random() % 3), 3, 0, 0x10, 0, 2}; break;
+    }
+    const Nanos gaps[] = {4 * ch, 5 * ch, 10 * ch, 0, ch / 2};
+    bus.add(with_crc(body), gaps[random() % 5]);
+    if (random() % 10 == 0) bus.add(random_bytes(1 + random() % 3), 4 * ch);
+  }
+  return bus;
+}
+
 // The reads of a per-byte capture of sick polling, with the clock stepping back now and then
 // for a few reads (a driver's timestamps do).
 std::vector<Chunk> sick_reads(const BusBuilder& bus, std::uint32_t seed) {
@@ -157,6 +187,47 @@ TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
     EXPECT_GT(taken, reads.size() / 2);
     EXPECT_GT(first_bytes_taken, frames / 2);
     EXPECT_GT(second_bytes_taken, frames / 2);
+  }
+}
+
+TEST(FramerShortcut, HeadsThatWaitOnTheirCrcSearchTakeBytesDirectlyAndChangeNothing) {
+  for (const std::uint32_t seed : {1U, 2U, 3U}) {
+    SCOPED_TRACE(seed);
+    const BusBuilder bus = frames_of_no_length_rule(seed);
+    const std::vector<Chunk> reads = bus.per_byte();
+    const FramerConfig config{bus.line(), kNanosPerMicro};
+    CollectingSink direct_records;
+    CollectingSink searched_records;
+    Framer direct(config, direct_records);
+    Framer searched(config, searched_records);
+    std::size_t taken = 0;
+    for (std::size_t i = 0; i < reads.size(); ++i) {
+      SCOPED_TRACE(i);
+      const Chunk& read = reads[i];
+      if (direct.push_if_head_waits(read.bytes[0], read.t_end, read.origin)) {
+        ++taken;
+      } else {
+        direct.push_without_shortcut(read);
+      }
+      searched.push_without_shortcut(read);
+      ASSERT_EQ(direct_records.records.size(), searched_records.records.size());
+      ASSERT_EQ(direct.oldest_pending_start(), searched.oldest_pending_start());
+      ASSERT_EQ(direct.decidable_at(), searched.decidable_at());
+    }
+    direct.finish();
+    searched.finish();
+    expect_same_records(direct_records.records, searched_records.records);
+    // Frames of no length rule were found whole, the ones with a CRC-valid first part too.
+    std::size_t vendor_frames = 0;
+    for (const Record& r : searched_records.records) {
+      if (r.kind == RecordKind::kFrame && r.crc_ok && r.size > 2 && r.bytes()[1] == 0x42) {
+        ++vendor_frames;
+      }
+    }
+    EXPECT_GT(vendor_frames, 40U);
+    // Half the bytes were taken directly, where the CRC searches waited as polling's fixed
+    // lengths do (a tenth, where only the polling heads were).
+    EXPECT_GT(taken, reads.size() / 3);
   }
 }
 

@@ -806,9 +806,13 @@ bool Framer::reads_are_batched() const {
 // zero through, until frames with no length rule (they end at silences) were found no more.
 // The price: on a bus of such frames alone, a read that came later than the resolution
 // inside one of them is a t1.5 issue.
+//
+// Nor does the first frame of a slave: a chance CRC zero that straddles the silence between
+// two frames (the last byte of one, a few of the next) names a slave the bus has not shown,
+// and that silence, taught as delay, hid every later one on a bus of vendor function codes.
 void Framer::learn_from(const Record& frame) {
   if (!config_.learn_resolution || config_.per_byte_exact || !reads_are_batched() ||
-      frame.shape_fit == kFitsNone) {
+      frame.shape_fit == kFitsNone || !active_slaves_.test(frame.slave())) {
     return;
   }
   for (std::size_t i = 1; i < frame.size; ++i) {

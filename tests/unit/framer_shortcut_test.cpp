@@ -131,16 +131,48 @@ void expect_same_records(const std::vector<Record>& a, const std::vector<Record>
   }
 }
 
+// Two framers fed the same reads: `direct` by the shortcut wherever it takes a read,
+// `searched` never by it.
+struct DirectAndSearched {
+  explicit DirectAndSearched(const FramerConfig& config)
+      : direct(config, direct_records), searched(config, searched_records) {}
+  // Pushes a one-byte read to both; returns whether the shortcut took it.
+  bool push(const Chunk& read) {
+    const bool taken = direct.push_if_head_waits(read.bytes[0], read.t_end, read.origin);
+    if (!taken) direct.push_without_shortcut(read);
+    searched.push_without_shortcut(read);
+    return taken;
+  }
+  void advance(Nanos now) {
+    direct.advance(now);
+    searched.advance(now);
+  }
+  [[nodiscard]] Moment direct_moment() const {
+    return {direct_records.records.size(), direct.oldest_pending_start(), direct.decidable_at()};
+  }
+  [[nodiscard]] Moment searched_moment() const {
+    return {searched_records.records.size(), searched.oldest_pending_start(),
+            searched.decidable_at()};
+  }
+  // Both finished: they must have given the same records.
+  void finish_and_compare() {
+    direct.finish();
+    searched.finish();
+    expect_same_records(direct_records.records, searched_records.records);
+  }
+
+  CollectingSink direct_records;
+  CollectingSink searched_records;
+  Framer direct;
+  Framer searched;
+};
+
 TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
   for (const std::uint32_t seed : {1U, 2U, 3U}) {
     SCOPED_TRACE(seed);
     const BusBuilder bus = sick_polling(seed);
     const std::vector<Chunk> reads = sick_reads(bus, seed);
-    const FramerConfig config{bus.line(), kNanosPerMicro};
-    CollectingSink direct_records;
-    CollectingSink searched_records;
-    Framer direct(config, direct_records);
-    Framer searched(config, searched_records);
+    DirectAndSearched framers(FramerConfig{bus.line(), kNanosPerMicro});
     std::size_t taken = 0;
     std::size_t first_bytes_taken = 0;
     std::size_t second_bytes_taken = 0;
@@ -148,36 +180,22 @@ TEST(FramerShortcut, TakingOneByteReadsDirectlyChangesNothing) {
     for (std::size_t i = 0; i < reads.size(); ++i) {
       SCOPED_TRACE(i);
       const Chunk& read = reads[i];
-      const bool empty_before = direct.oldest_pending_start() == kUnknownTime;
-      const bool one_byte_before =
-          direct.oldest_pending_start() == previous_end - bus.line().char_time();
-      if (direct.push_if_head_waits(read.bytes[0], read.t_end, read.origin)) {
+      const Nanos oldest_before = framers.direct.oldest_pending_start();
+      if (framers.push(read)) {
         ++taken;
-        if (empty_before) ++first_bytes_taken;
-        if (one_byte_before) ++second_bytes_taken;
-      } else {
-        direct.push_without_shortcut(read);
+        if (oldest_before == kUnknownTime) ++first_bytes_taken;
+        if (oldest_before == previous_end - bus.line().char_time()) ++second_bytes_taken;
       }
-      searched.push_without_shortcut(read);
       previous_end = std::max(previous_end + bus.line().char_time(), read.t_end);
       // A live run's quiet moments, now and then between reads.
-      if (i % 17 == 0) {
-        direct.advance(read.t_end + 2 * kMs);
-        searched.advance(read.t_end + 2 * kMs);
-      }
-      const Moment a{direct_records.records.size(), direct.oldest_pending_start(),
-                     direct.decidable_at()};
-      const Moment b{searched_records.records.size(), searched.oldest_pending_start(),
-                     searched.decidable_at()};
-      ASSERT_EQ(a, b);
+      if (i % 17 == 0) framers.advance(read.t_end + 2 * kMs);
+      ASSERT_EQ(framers.direct_moment(), framers.searched_moment());
     }
-    direct.finish();
-    searched.finish();
-    expect_same_records(direct_records.records, searched_records.records);
+    framers.finish_and_compare();
     // The traffic was sick: glitches and junk came out as noise, and frames were found.
     std::size_t noise = 0;
     std::size_t frames = 0;
-    for (const Record& r : searched_records.records) {
+    for (const Record& r : framers.searched_records.records) {
       noise += r.kind == RecordKind::kNoise ? 1 : 0;
       frames += r.kind == RecordKind::kFrame && r.crc_ok ? 1 : 0;
     }
@@ -195,31 +213,17 @@ TEST(FramerShortcut, HeadsThatWaitOnTheirCrcSearchTakeBytesDirectlyAndChangeNoth
     SCOPED_TRACE(seed);
     const BusBuilder bus = frames_of_no_length_rule(seed);
     const std::vector<Chunk> reads = bus.per_byte();
-    const FramerConfig config{bus.line(), kNanosPerMicro};
-    CollectingSink direct_records;
-    CollectingSink searched_records;
-    Framer direct(config, direct_records);
-    Framer searched(config, searched_records);
+    DirectAndSearched framers(FramerConfig{bus.line(), kNanosPerMicro});
     std::size_t taken = 0;
     for (std::size_t i = 0; i < reads.size(); ++i) {
       SCOPED_TRACE(i);
-      const Chunk& read = reads[i];
-      if (direct.push_if_head_waits(read.bytes[0], read.t_end, read.origin)) {
-        ++taken;
-      } else {
-        direct.push_without_shortcut(read);
-      }
-      searched.push_without_shortcut(read);
-      ASSERT_EQ(direct_records.records.size(), searched_records.records.size());
-      ASSERT_EQ(direct.oldest_pending_start(), searched.oldest_pending_start());
-      ASSERT_EQ(direct.decidable_at(), searched.decidable_at());
+      if (framers.push(reads[i])) ++taken;
+      ASSERT_EQ(framers.direct_moment(), framers.searched_moment());
     }
-    direct.finish();
-    searched.finish();
-    expect_same_records(direct_records.records, searched_records.records);
+    framers.finish_and_compare();
     // Frames of no length rule were found whole, the ones with a CRC-valid first part too.
     std::size_t vendor_frames = 0;
-    for (const Record& r : searched_records.records) {
+    for (const Record& r : framers.searched_records.records) {
       if (r.kind == RecordKind::kFrame && r.crc_ok && r.size > 2 && r.bytes()[1] == 0x42) {
         ++vendor_frames;
       }

@@ -229,6 +229,9 @@ class Framer {
   // confirmed_length() at full depth, skipping positions already known to be no start.
   std::size_t settled_or_confirmed_length(std::size_t pos, bool at_end, bool* pending);
   std::size_t generic_crc_length(std::size_t pos, bool at_end, int depth, bool* pending) const;
+  // Whether the CRC search from `pos` meets a zero (a frame's worth of bytes or more) before
+  // a silence; *pending where it still may.
+  bool crc_zero_follows(std::size_t pos, bool at_end, bool* pending) const;
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
   [[nodiscard]] bool read_bounded(std::size_t pos, std::size_t length) const;

@@ -378,13 +378,12 @@ std::size_t Framer::first_silence(std::size_t from, std::size_t to) const {
 bool Framer::crc_zero_follows(std::size_t pos, bool at_end, bool* pending) const {
   const CrcScan& scan = extended_scan(pos);
   if (scan.found_zero) return true;
-  if (!scan.ended_at_silence && !at_end && buffered() - pos < kMaxAdu) *pending = true;
+  if (crc_search_may_go_on(scan, pos, at_end)) *pending = true;
   return false;
 }
 
 std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
                                        bool* pending) const {
-  const std::size_t avail = buffered() - pos;
   const CrcScan& scan = extended_scan(pos);
   // Where the CRC holds, a frame ends if a silence or another frame follows; failing both,
   // where its read ends, if that is its first CRC zero (a frame's own end, where a frame
@@ -428,7 +427,7 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
   });
   if (decided) return found;
   if (read_bounded_length > 0 && !longer_may_confirm) return read_bounded_length;
-  if (!scan.ended_at_silence && !at_end && avail < kMaxAdu) *pending = true;
+  if (crc_search_may_go_on(scan, pos, at_end)) *pending = true;
   return 0;
 }
 

@@ -232,6 +232,11 @@ class Framer {
   // Whether the CRC search from `pos` meets a zero (a frame's worth of bytes or more) before
   // a silence; *pending where it still may.
   bool crc_zero_follows(std::size_t pos, bool at_end, bool* pending) const;
+  // Whether more bytes may still extend the CRC search from `pos` (no silence ended it, the
+  // input goes on, and it is shorter than the longest frame): its "no zero" is not final.
+  [[nodiscard]] bool crc_search_may_go_on(const CrcScan& scan, std::size_t pos, bool at_end) const {
+    return !scan.ended_at_silence && !at_end && buffered() - pos < kMaxAdu;
+  }
   void classify_span(std::size_t length);
   bool boundary_at(std::size_t pos) const;
   [[nodiscard]] bool read_bounded(std::size_t pos, std::size_t length) const;

@@ -125,19 +125,20 @@ def sniffer_pauses(reads, byte_count, char_time):
     return pauses[:byte_count]
 
 
-# Pauses inside a frame that the sniffer's port showed although the wire had none: its
-# host delivered a byte late, where rtuscope cannot see it (the kernel's own delivery, or the
-# bus's thread; the reading thread's lateness it measures and marks). A t1.5 flag there is
-# the port's truth, not the wire's; tolerated in a few frames of a run on a loaded machine.
+# Pauses inside a frame that the sniffer's port showed although the wire had none, or
+# silences before a frame shorter than the wire's: its host delivered a byte late, where
+# rtuscope cannot see it (the kernel's own delivery, or the bus's thread; the reading
+# thread's lateness it measures and marks). A t1.5 or t3.5 flag there is the port's truth,
+# not the wire's; tolerated in a few frames of a run on a loaded machine.
 UNSEEN_LATENESS_FRAMES = 3
 
 
 def check_timing_flags(bursts, frames, baud, pauses, late):
     """Every timing flag is true on the wire: a t3.5 flag only where the bus was silent
     for less than t3.5 before the frame (give or take the host's lateness), and no t1.5 flag
-    (a burst has no pause inside) unless the sniffer's port showed one (`pauses`, from
-    sniffer_pauses()), which rtuscope could not tell from a real one, in a few frames at
-    most. `late`: where the bus delivered late (late_deliveries()), said with the flag.
+    (a burst has no pause inside). Either may stand where the sniffer's port showed what the
+    wire had not (`pauses`, from sniffer_pauses()), which rtuscope could not tell from the
+    truth, in a few frames at most. `late`: where the bus delivered late (late_deliveries()), said with the flag.
     Returns how many t3.5 flags there were and how many frames broke t3.5 on the wire."""
     t3_5 = t3_5_seconds(baud)
     t1_5 = t1_5_seconds(baud)
@@ -146,6 +147,7 @@ def check_timing_flags(bursts, frames, baud, pauses, late):
     first_byte = 0
     for i, ((_, hexbytes, start, end), frame) in enumerate(zip(bursts, frames)):
         size = len(hexbytes) // 2
+        frame_start = first_byte
         inner = [p for p in pauses[first_byte + 1:first_byte + size] if p is not None]
         first_byte += size
         silence = start - bursts[i - 1][3] if i > 0 else None
@@ -163,12 +165,25 @@ def check_timing_flags(bursts, frames, baud, pauses, late):
         if "t3.5" in issues:
             flagged += 1
             if silence is None or silence >= t3_5 + HOST_LATENESS:
-                shown = "none before it" if silence is None else f"{silence * 1e3:.3f} ms"
-                fail(f"t3.5 flag where the bus was silent for {shown} "
-                     f"(t3.5 is {t3_5 * 1e3:.3f} ms): {frame}")
+                # The port's truth, where the last byte before the silence reached the
+                # sniffer late (the kernel's delivery or the bus's thread): rtuscope flags
+                # only a silence shorter than t3.5 by its resolution, so a port that showed
+                # one that long or longer, or none, would be a flag it invented.
+                shown = pauses[frame_start] if frame_start < len(pauses) else None
+                if silence is None or shown is None or shown + resolution >= t3_5 + 1e-6:
+                    said = "none before it" if silence is None else f"{silence * 1e3:.3f} ms"
+                    fail(f"t3.5 flag where the bus was silent for {said} "
+                         f"(t3.5 is {t3_5 * 1e3:.3f} ms) and the sniffer's port showed "
+                         f"{'no silence' if shown is None else f'{shown * 1e3:.3f} ms'}: "
+                         f"{frame}")
+                unseen += 1
+                late_by = bus_lateness_within(late, bursts[i - 1][2], bursts[i - 1][3])
+                print(f"t3.5 flag where the sniffer's port showed a {shown * 1e3:.3f} ms "
+                      f"silence and the wire {silence * 1e3:.3f} ms (the bus delivered the "
+                      f"frame before {late_by * 1e3:.3f} ms late): {frame['hex']}")
     if unseen > UNSEEN_LATENESS_FRAMES:
-        fail(f"{unseen} frames flagged t1.5 for pauses only the sniffer's port had: more than "
-             f"a loaded host explains")
+        fail(f"{unseen} frames flagged t1.5 or t3.5 for what only the sniffer's port showed: "
+             f"more than a loaded host explains")
     return flagged, violations
 
 

@@ -13,7 +13,9 @@ namespace rtu {
 namespace {
 
 // How many frames with no length rule may vouch for each other in a row (vendor function
-// codes polled back to back through a USB adapter).
+// codes polled back to back through a USB adapter). The last of them is vouched for by any
+// CRC zero after it (Framer::generic_crc_length), so a chain is kGenericDepth + 1 CRC-valid
+// spans back to back.
 constexpr int kGenericDepth = 2;
 
 // Role order to try: the one the bus state expects first.
@@ -404,10 +406,11 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
       return true;
     }
     bool next_pending = false;
-    // The last link of a chain is any CRC zero: three CRC-valid spans back to back are no
-    // chance (a chance zero inside a frame is 1 in 65,536, and one from there as well, about
-    // 1 in 260). Without it, frames of no length rule (vendor function codes) behind an
-    // adapter that hides every silence between them were all noise.
+    // The last link of a chain (depth 1) is any CRC zero: kGenericDepth + 1 CRC-valid spans
+    // back to back are no chance (a chance zero inside a frame is 1 in 65,536, and one from
+    // there as well, about 1 in 260 for each further span). Without it, frames of no length
+    // rule (vendor function codes) behind an adapter that hides every silence between them
+    // were all noise.
     if (boundary_at(next) || confirmed_length(next, at_end, depth - 1, &next_pending) > 0 ||
         (depth == 1 && crc_zero_follows(next, at_end, &next_pending))) {
       found = len;

@@ -8,6 +8,9 @@
 //  * What a frame's function code allows: the expected length in either role (request or
 //    response, byte-count fields included), confirmed by the CRC. This is what survives
 //    USB adapters that batch bytes into 16 ms transfers and glue requests to responses.
+//    A function code with no length rule (a vendor's) has only its CRC: such a frame ends
+//    where the CRC holds and a silence or a confirmed frame follows, or, where no silence
+//    shows, where a short chain of CRC-valid spans continues back to back behind it.
 //
 // A CRC-confirmed length-predicted frame always wins (it may even span a silence: that is
 // a `t1.5` issue on the frame). When nothing at the head of the buffer is confirmed, the

@@ -6,6 +6,7 @@
 
 #include "core/crc16.hpp"
 #include "core/function_codes.hpp"
+#include "framing/crc_chain.hpp"
 #include "framing/frame_classifier.hpp"
 #include "framing/frame_shape.hpp"
 
@@ -411,10 +412,19 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
     // there as well, about 1 in 260 for each further span). Without it, frames of no length
     // rule (vendor function codes) behind an adapter that hides every silence between them
     // were all noise.
-    if (boundary_at(next) || confirmed_length(next, at_end, depth - 1, &next_pending) > 0 ||
-        (depth == 1 && crc_zero_follows(next, at_end, &next_pending))) {
+    if (boundary_at(next)) {
       found = len;
       return true;
+    }
+    if (confirmed_length(next, at_end, depth - 1, &next_pending) > 0 ||
+        (depth == 1 && crc_zero_follows(next, at_end, &next_pending))) {
+      // Where frames follow with no silence, a span from a start inside a damaged frame
+      // comes out CRC-valid by chance where a real frame ends: it holds real frames.
+      if (!holds_crc_chain({bytes_.data() + begin_ + pos, len})) {
+        found = len;
+        return true;
+      }
+      return false;  // no frame of this length, nor one to wait for
     }
     if (next_pending) {
       answer_may_change_ = true;  // the frame after may still come

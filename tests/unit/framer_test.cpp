@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "bus_builder.hpp"
 
 namespace rtu {
@@ -279,6 +281,55 @@ TEST(FramerResync, VendorFramesWithEverySilenceHiddenEndWhereThreeCrcZerosFollow
   const auto sent = add_vendor_polls(bus, 40, 3 * kMs, 2 * kMs);
   const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
   expect_each_frame_whole(records, sent);
+}
+
+// Frames of `sent` that come out of `records` whole, and CRC-valid records that were never
+// sent (a span from a start inside damaged bytes whose CRC came out zero by chance).
+struct Outcome {
+  std::size_t whole = 0;
+  std::size_t invented = 0;
+};
+Outcome score(const std::vector<Record>& records,
+              const std::vector<std::vector<std::uint8_t>>& sent) {
+  Outcome out;
+  for (const Record& r : records) {
+    if (r.kind != RecordKind::kFrame || !r.crc_ok) continue;
+    const bool was_sent = std::find(sent.begin(), sent.end(), bytes_of(r)) != sent.end();
+    ++(was_sent ? out.whole : out.invented);
+  }
+  return out;
+}
+
+// The search for the next frame after a damaged one tries a start at each of its bytes, and
+// from one of them the CRC may come out zero exactly where a real frame ends: behind an
+// adapter that hides every silence, real frames follow and confirm it. Such a span holds
+// real frames back to back; it is none. Here the damaged frame's bytes are chosen so that
+// the CRC from its second byte comes out zero at the end of the second real frame after it.
+TEST(FramerResync, ASpanFromInsideADamagedFrameThatHoldsRealFramesIsNoFrame) {
+  BusBuilder bus;
+  auto sent = add_vendor_polls(bus, 10, 3 * kMs, 2 * kMs);
+  std::vector<std::vector<std::uint8_t>> after;
+  {
+    BusBuilder rest;
+    after = add_vendor_polls(rest, 12, 3 * kMs, 2 * kMs);
+  }
+  std::vector<std::uint8_t> damaged = {0x07, 0x41, 0x5A, 0x00, 0x00, 0x3C, 0x99};
+  bool chosen = false;
+  for (unsigned x = 0; x < 0x10000 && !chosen; ++x) {
+    damaged[3] = static_cast<std::uint8_t>(x & 0xFFU);
+    damaged[4] = static_cast<std::uint8_t>(x >> 8U);
+    std::vector<std::uint8_t> span(damaged.begin() + 1, damaged.end());
+    for (std::size_t k = 0; k < 2; ++k) span.insert(span.end(), after[k].begin(), after[k].end());
+    chosen = crc16(span) == 0 && crc16(damaged) != 0;
+  }
+  ASSERT_TRUE(chosen);
+  bus.add(damaged, 3 * kMs);
+  for (std::size_t k = 0; k < after.size(); ++k) bus.add(after[k], k % 2 == 0 ? 2 * kMs : 3 * kMs);
+  sent.insert(sent.end(), after.begin(), after.end());
+  const auto records = run(bus.batched(16 * kMs), bus.line(), 16 * kMs);
+  const Outcome outcome = score(records, sent);
+  EXPECT_EQ(outcome.invented, 0U);
+  EXPECT_EQ(outcome.whole, sent.size());
 }
 
 // The reads' ends are the weakest evidence: where a read ends exactly on a CRC zero but what

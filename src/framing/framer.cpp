@@ -636,7 +636,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
       all_silent_free = false;
       bool pending = false;
       if (confirmed_length(p, at_end, kGenericDepth, &pending) > 0) {
-        classify_span(p);
+        classify_span(first_whole_frame_before(p));
         return Verdict::kEmitted;
       }
     }
@@ -705,6 +705,19 @@ Framer::Verdict Framer::decide_head(bool at_end) {
     emit_noise(std::max<std::size_t>(1, first_pending == 0 ? n - kMaxAdu : first_pending));
   }
   return Verdict::kEmitted;
+}
+
+// The head waited for a length that a silence at `end` cut short (noise whose bytes read
+// as a byte count, a damaged one): whole frames may have come between the two, each in
+// bytes the head waited for. The first start in (0, end) of a frame the CRC confirms that
+// ends by `end`; `end` where there is none.
+std::size_t Framer::first_whole_frame_before(std::size_t end) const {
+  for (std::size_t q = 1; q + kMinAdu <= end; ++q) {
+    bool pending = false;
+    const std::size_t length = confirmed_length(q, false, kGenericDepth, &pending);
+    if (length > 0 && q + length <= end) return q;
+  }
+  return end;
 }
 
 // Bytes [0, length) precede a confirmed frame, a silence, or the end: a damaged frame

@@ -241,6 +241,7 @@ class Framer {
     return !scan.ended_at_silence && !at_end && buffered() - pos < kMaxAdu;
   }
   void classify_span(std::size_t length);
+  [[nodiscard]] std::size_t first_whole_frame_before(std::size_t end) const;
   bool boundary_at(std::size_t pos) const;
   [[nodiscard]] bool read_bounded(std::size_t pos, std::size_t length) const;
   [[nodiscard]] bool silence_before(Nanos gap) const { return gap >= t3_5_ + resolution_; }

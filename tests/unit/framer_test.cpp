@@ -332,6 +332,35 @@ TEST(FramerResync, ASpanFromInsideADamagedFrameThatHoldsRealFramesIsNoFrame) {
   EXPECT_EQ(outcome.whole, sent.size());
 }
 
+// Noise whose bytes read as a long frame's byte count (here FC 0x14 announcing 190 bytes)
+// keeps the head waiting for them. Where the timestamps show no silence (an adapter that
+// delivers a read when the line goes idle, slower than the frames come), whole frames then
+// come inside the bytes it waits for, until a silence that shows cuts it short. Those frames
+// are frames: before, the noise and every frame up to that silence were one noise record.
+TEST(FramerResync, FramesInsideWhatANoiseHeadWaitedForAreFramesWhenASilenceCutsItShort) {
+  const std::vector<std::uint8_t> noise = {0x35, 0x14, 0xBE, 0x1B, 0x25, 0xAB,
+                                           0x59, 0xDF, 0xAC, 0xA2, 0x24};
+  const auto request = with_crc({0x01, 0x03, 0x00, 0x42, 0x00, 0x02});
+  const auto answer = with_crc({0x01, 0x03, 0x04, 0x12, 0x34, 0x56, 0x78});
+  LineSettings line;
+  line.baud = 115200;
+  BusBuilder bus(line);
+  bus.add(kReadRequest, 0).add(kReadResponse, 3 * kMs);
+  bus.add(noise, 9 * kMs).add(kReadRequest, 2 * kMs).add(kReadResponse, 9 * kMs);
+  bus.add(request, 6 * kMs).add(answer, 17 * kMs);
+  const auto records = run(bus.per_add(), line, 10 * kMs);
+  ASSERT_EQ(records.size(), 7U);
+  EXPECT_EQ(records[2].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[2]), noise);
+  const std::vector<std::vector<std::uint8_t>> frames_after = {kReadRequest, kReadResponse, request,
+                                                               answer};
+  for (std::size_t i = 0; i < frames_after.size(); ++i) {
+    EXPECT_EQ(records[3 + i].kind, RecordKind::kFrame) << i;
+    EXPECT_EQ(bytes_of(records[3 + i]), frames_after[i]) << i;
+    EXPECT_TRUE(records[3 + i].crc_ok) << i;
+  }
+}
+
 // The reads' ends are the weakest evidence: where a read ends exactly on a CRC zero but what
 // follows confirms a longer frame (a CRC whose last byte is 00 holds without that byte too),
 // the longer frame wins.

@@ -713,6 +713,7 @@ Framer::Verdict Framer::decide_head(bool at_end) {
 // ends by `end`; `end` where there is none.
 std::size_t Framer::first_whole_frame_before(std::size_t end) const {
   for (std::size_t q = 1; q + kMinAdu <= end; ++q) {
+    if (settled_.test((consumed_ + q) % kWindow)) continue;  // known to start no frame
     bool pending = false;
     const std::size_t length = confirmed_length(q, false, kGenericDepth, &pending);
     if (length > 0 && q + length <= end) return q;

@@ -419,8 +419,10 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
     if (confirmed_length(next, at_end, depth - 1, &next_pending) > 0 ||
         (depth == 1 && crc_zero_follows(next, at_end, &next_pending))) {
       // Where frames follow with no silence, a span from a start inside a damaged frame
-      // comes out CRC-valid by chance where a real frame ends: it holds real frames.
-      if (!holds_crc_chain({bytes_.data() + begin_ + pos, len})) {
+      // comes out CRC-valid by chance where a real frame ends: it holds real frames. Asked
+      // of the frame being decided only (full depth), not of the links that vouch for it:
+      // a link is decided in turn, and asking there too doubled the cost on such buses.
+      if (depth < kGenericDepth || !holds_crc_chain({bytes_.data() + begin_ + pos, len})) {
         found = len;
         return true;
       }

@@ -406,16 +406,16 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
       }
       return true;
     }
+    if (boundary_at(next)) {
+      found = len;
+      return true;
+    }
     bool next_pending = false;
     // The last link of a chain (depth 1) is any CRC zero: kGenericDepth + 1 CRC-valid spans
     // back to back are no chance (a chance zero inside a frame is 1 in 65,536, and one from
     // there as well, about 1 in 260 for each further span). Without it, frames of no length
     // rule (vendor function codes) behind an adapter that hides every silence between them
     // were all noise.
-    if (boundary_at(next)) {
-      found = len;
-      return true;
-    }
     if (confirmed_length(next, at_end, depth - 1, &next_pending) > 0 ||
         (depth == 1 && crc_zero_follows(next, at_end, &next_pending))) {
       // Where frames follow with no silence, a span from a start inside a damaged frame

@@ -138,7 +138,8 @@ def check_timing_flags(bursts, frames, baud, pauses, late):
     for less than t3.5 before the frame (give or take the host's lateness), and no t1.5 flag
     (a burst has no pause inside). Either may stand where the sniffer's port showed what the
     wire had not (`pauses`, from sniffer_pauses()), which rtuscope could not tell from the
-    truth, in a few frames at most. `late`: where the bus delivered late (late_deliveries()), said with the flag.
+    truth, in a few frames at most. `late`: where the bus delivered late
+    (late_deliveries()), said with the flag.
     Returns how many t3.5 flags there were and how many frames broke t3.5 on the wire."""
     t3_5 = t3_5_seconds(baud)
     t1_5 = t1_5_seconds(baud)

@@ -124,6 +124,19 @@ void CrcZeroIndex::note_matches(CrcScan& scan, std::uint16_t target, std::uint64
 
 CrcZeroIndex::CrcZeroIndex() : initial_(tables().initial.data()) {}
 
+void CrcZeroIndex::span_values(std::span<const std::uint8_t> bytes, std::uint16_t* values,
+                               std::uint16_t* targets) {
+  if (bytes.size() > kBlock) throw std::logic_error("CRC span values beyond one block");
+  const Tables& t = tables();
+  std::uint16_t value = 0;
+  values[0] = 0;
+  for (std::size_t q = 1; q <= bytes.size(); ++q) {
+    targets[q - 1] = value ^ t.initial[q - 1];
+    value ^= t.step[q][bytes[q - 1]];
+    values[q] = value;
+  }
+}
+
 std::uint16_t CrcZeroIndex::moved_on(std::uint16_t target, std::uint64_t block) const {
   return to_next_block(tables(), target ^ block_end_[block % kEnds]);
 }

@@ -24,6 +24,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 #include "framing/crc_scan_cache.hpp"
 #include "framing/record.hpp"
@@ -82,6 +83,13 @@ class CrcZeroIndex {
   // A target to block `block`, moved to the next block's base (once that block's end was
   // computed): for q in the next block.
   [[nodiscard]] std::uint16_t moved_on(std::uint16_t target, std::uint64_t block) const;
+
+  // The same values for one span of at most kBlock bytes, its start as the base, for what
+  // asks of every start and end within it at once: values[q] for q in [0, size] and
+  // targets[a] for a in [0, size). The CRC of [a, b) is zero exactly where values[b] is
+  // targets[a]. One table look-up a byte.
+  static void span_values(std::span<const std::uint8_t> bytes, std::uint16_t* values,
+                          std::uint16_t* targets);
 
  private:
   static constexpr std::size_t kEnds = 32;  // blocks in reach, rounded up to a power of 2

@@ -396,17 +396,26 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
   std::size_t read_bounded_length = 0;
   std::size_t first_zero = 0;
   bool longer_may_confirm = false;
+  // A span from a start inside a damaged frame comes out CRC-valid by chance where a real
+  // frame ends, and holds the real frames between. Asked of the frame being decided only
+  // (full depth), not of the links that vouch for it: a link is decided in turn, and asking
+  // there too doubled the cost on such buses.
+  const auto holds_frames = [&](std::size_t len) {
+    return depth == kGenericDepth && holds_crc_chain({bytes_.data() + begin_ + pos, len});
+  };
   const bool decided = scan.found_zero && scan.any_zero_length([&](std::size_t len) {
     const std::size_t next = pos + len;
     if (next == buffered()) {
-      if (at_end) {
-        found = len;
-      } else {
+      if (!at_end) {
         *pending = true;
+        return true;
       }
+      if (holds_frames(len)) return false;
+      found = len;
       return true;
     }
     if (boundary_at(next)) {
+      if (holds_frames(len)) return false;
       found = len;
       return true;
     }
@@ -418,15 +427,9 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
     // were all noise.
     if (confirmed_length(next, at_end, depth - 1, &next_pending) > 0 ||
         (depth == 1 && crc_zero_follows(next, at_end, &next_pending))) {
-      // Where frames follow with no silence, a span from a start inside a damaged frame
-      // comes out CRC-valid by chance where a real frame ends: it holds real frames. Asked
-      // of the frame being decided only (full depth), not of the links that vouch for it:
-      // a link is decided in turn, and asking there too doubled the cost on such buses.
-      if (depth < kGenericDepth || !holds_crc_chain({bytes_.data() + begin_ + pos, len})) {
-        found = len;
-        return true;
-      }
-      return false;  // no frame of this length, nor one to wait for
+      if (holds_frames(len)) return false;  // no frame of this length, nor one to wait for
+      found = len;
+      return true;
     }
     if (next_pending) {
       answer_may_change_ = true;  // the frame after may still come

@@ -2,12 +2,12 @@
 // Whether a span of bytes holds two CRC-valid spans back to back: frames, one after the
 // other, rather than one frame.
 //
-// A frame of no length rule (a vendor function code) is known only by its CRC. Where no
-// silence shows (an adapter's timer hides them), a CRC zero that a chain of further CRC
-// zeros follows is its evidence. Damage breaks that: the search for the next frame then
-// tries a start at every byte of the damaged one, and from each the CRC comes out zero by
-// chance (1 in 65,536) where any of the real frames within reach ends, and real frames
-// follow to confirm it. On a vendor bus behind a 16 ms adapter with one frame in twenty
+// A frame of no length rule (a vendor function code) is known only by its CRC, and where it
+// ends by what follows: a silence, the capture's end, or (where an adapter's timer hides the
+// silences) a chain of further CRC zeros. Damage breaks that: the search for the next frame
+// then tries a start at every byte of the damaged one, and from each the CRC comes out zero
+// by chance (1 in 65,536) where any of the real frames within reach ends, and what follows
+// those real frames confirms it. On a vendor bus behind a 16 ms adapter with one frame in twenty
 // damaged, about one damaged frame in fifty swallowed a run of real frames that way into
 // one "CRC-valid" frame (tools/accuracy/vendor_bus.py --faults 0.05).
 //

@@ -63,6 +63,8 @@ void Framer::push_without_shortcut(const Chunk& chunk) {
   const std::size_t n = chunk.bytes.size();
   if (n == 0) return;
   if (const Nanos quiet = quiet_known_until(chunk); quiet != kUnknownTime) advance(quiet);
+  last_read_filled_ = n >= kFullReadAtLeast && n >= largest_read_;
+  largest_read_ = std::max(largest_read_, n);
   ++chunks_;
   if (n > 1) ++batched_chunks_;
   watching_reads_ = n < kCrcStepsUpTo || (n < kWatchedReadsUpTo && buffered() >= kWatchedStretch);
@@ -219,6 +221,7 @@ void Framer::break_capture() {
   last_record_was_frame_ = false;
   glitch_since_frame_ = kUnknownTime;
   after_late_read_ = false;
+  last_read_filled_ = false;
   expect_request();
 }
 

@@ -55,6 +55,9 @@ struct FramerConfig {
 // frame can come that much later even on a healthy line; giving up earlier turns a whole
 // frame into a truncated one plus noise. It only delays the decision, never a timestamp.
 inline constexpr Nanos kDeliveryPatience = 20 * kNanosPerMilli;
+// Reads smaller than this never count as a full packet (quiet_to_decide()): per-byte and
+// few-byte reads say nothing of an adapter's buffer.
+inline constexpr std::size_t kFullReadAtLeast = 8;
 
 class Framer {
  public:
@@ -182,7 +185,18 @@ class Framer {
   [[nodiscard]] Nanos delivery_allowance() const {
     return std::max(resolution_, kDeliveryPatience);
   }
-  [[nodiscard]] Nanos quiet_to_decide() const { return t3_5_ + delivery_allowance(); }
+  // Twice that for a frame whose length rule says its rest is still to come, after a read as
+  // large as any the adapter has given: such a read shows a full packet, sent because the
+  // adapter's buffer filled rather than because the line went idle, so the rest may wait
+  // for the next idle line, after further frames (an adapter that sends when the line has
+  // been idle, on a bus polled faster than its idle wait).
+  [[nodiscard]] Nanos quiet_to_decide() const {
+    const bool rest_held = last_read_filled_ && head_awaits_its_rest();
+    return t3_5_ + (rest_held ? 2 : 1) * delivery_allowance();
+  }
+  [[nodiscard]] bool head_awaits_its_rest() const {
+    return buffered() > 0 && predicted_length(0) > buffered();
+  }
   void decide_after_silence();  // advance() once the line was quiet long enough
   bool push_first_byte_if_it_waits(std::uint8_t byte, Nanos now, std::uint64_t origin);
   std::size_t push_reads_to_waiting_head(const std::uint8_t* bytes, const Nanos* t_ends,
@@ -322,6 +336,10 @@ class Framer {
 
   // The last read came late (Chunk::read_late): the silence after it is not measured.
   bool after_late_read_ = false;
+  // The largest read so far, and whether the last one was as large (and of at least
+  // kFullReadAtLeast bytes): see quiet_to_decide().
+  std::size_t largest_read_ = 0;
+  bool last_read_filled_ = false;
   bool expect_response_ = false;
   std::uint8_t expected_slave_ = 0;
   std::uint8_t expected_function_ = 0;
@@ -338,6 +356,7 @@ class Framer {
 // watch, a search to make, a silence before the byte, a full window, a CRC zero, a CRC
 // search that does not cover the window) is left to push().
 inline bool Framer::push_if_head_waits(std::uint8_t byte, Nanos now, std::uint64_t origin) {
+  if (last_read_filled_) return false;  // push() notes that this read fills nothing
   if (buffered() == 0) return push_first_byte_if_it_waits(byte, now, origin);
   Nanos latest = 0;
   return push_reads_to_waiting_head(&byte, &now, origin, 1, latest) == 1;
@@ -401,7 +420,7 @@ inline std::size_t Framer::push_reads_to_waiting_head(const std::uint8_t* bytes,
                                                       std::size_t count, Nanos& latest) {
   const std::size_t held = buffered();
   if (held == 0 || end_ == kWindow || held + 1 >= kMaxPending || quiet_starts_.any_watched() ||
-      last_byte_end_ == kUnknownTime) {
+      last_byte_end_ == kUnknownTime || last_read_filled_) {
     return 0;
   }
   const std::uint64_t first_end = consumed_ + held + 1;  // the window's end with the first read

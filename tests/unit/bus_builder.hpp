@@ -131,6 +131,28 @@ class BusBuilder {
     return out;
   }
 
+  // An adapter that sends once the line has been idle for `idle` after the last byte it
+  // holds (a UART's character timeout, CH34x-like chips), or as soon as `packet` bytes wait.
+  [[nodiscard]] std::vector<Chunk> idle_flush(Nanos idle, std::size_t packet) const {
+    std::vector<Chunk> out;
+    std::size_t first = 0;
+    while (first < bytes_.size()) {
+      std::size_t j = first + 1;
+      // The next byte joins the packet when it starts before the idle wait ran out.
+      while (j < bytes_.size() && j - first < packet &&
+             ends_[j] - line_.char_time() < ends_[j - 1] + idle) {
+        ++j;
+      }
+      Chunk c;
+      c.t_end = j - first == packet ? ends_[j - 1] : ends_[j - 1] + idle;
+      c.bytes = std::span(bytes_).subspan(first, j - first);
+      c.origin = out.size() + 1;
+      out.push_back(c);
+      first = j;
+    }
+    return out;
+  }
+
   [[nodiscard]] const LineSettings& line() const { return line_; }
   [[nodiscard]] std::size_t size() const { return bytes_.size(); }
 

@@ -363,6 +363,43 @@ TEST(FramerResync, ASpanThatHoldsRealFramesIsNoFrameWhenASilenceFollowsIt) {
   EXPECT_EQ(outcome.whole, outcome.sent);
 }
 
+// An adapter that sends when the line has been idle for eight character times, or when 32
+// bytes wait, on a bus polled faster than that: the last bytes of a 69-byte answer, after
+// two full packets, wait until the line goes idle after the master's next request, about
+// 29 ms after the answer's last full packet. A full packet shows that the adapter did not
+// send because the line went idle, so the framer waits twice its delivery allowance (20 ms
+// here) for the rest of a frame whose length it knows: the answer comes whole.
+TEST(FramerDelivery, TheRestOfAFrameAfterFullPacketsWaitsForTheNextIdleLine) {
+  LineSettings line;
+  line.baud = 9600;
+  BusBuilder bus(line);
+  const auto request = with_crc({0x01, 0x03, 0x00, 0x00, 0x00, 0x20});
+  std::vector<std::uint8_t> body = {0x01, 0x03, 0x40};
+  for (unsigned i = 0; i < 64; ++i) body.push_back(static_cast<std::uint8_t>(i * 37 + 11));
+  const auto answer = with_crc(body);
+  std::vector<std::vector<std::uint8_t>> sent;
+  for (int poll = 0; poll < 4; ++poll) {
+    bus.add(request, 40 * kMs).add(answer, 15 * kMs);
+    sent.push_back(request);
+    sent.push_back(answer);
+  }
+  bus.add(request, 5 * kMs);  // before the adapter's idle wait (9.2 ms) runs out
+  sent.push_back(request);
+  const auto reads = bus.idle_flush(8 * line.char_time(), 32);
+  const auto records = run(reads, line, 10 * kMs);
+  const Outcome outcome = score(records, sent);
+  EXPECT_EQ(outcome.invented, 0U);
+  EXPECT_EQ(outcome.whole, sent.size());
+  // The last answer's rest came in one read with the request after it, long after the
+  // answer's full packets: more than t3.5 and the allowance once, less than twice.
+  ASSERT_GE(reads.size(), 2U);
+  const Chunk& rest = reads.back();
+  EXPECT_EQ(rest.bytes.size(), 5U + request.size());
+  const Nanos held = rest.t_end - reads[reads.size() - 2].t_end;
+  EXPECT_GT(held, line.t3_5() + 20 * kMs);
+  EXPECT_LT(held, line.t3_5() + 40 * kMs);
+}
+
 // Noise whose bytes read as a long frame's byte count (here FC 0x14 announcing 190 bytes)
 // keeps the head waiting for them. Where the timestamps show no silence (an adapter that
 // delivers a read when the line goes idle, slower than the frames come), whole frames then

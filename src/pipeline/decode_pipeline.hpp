@@ -55,8 +55,9 @@ class DecodePipeline {
   void push_noise(std::span<const std::uint8_t> bytes, Nanos t_start, Nanos t_end,
                   std::uint64_t origin);
   // No read completed before `now` (input clock): frames waiting for more bytes are
-  // decided once that is t3.5 + resolution (at least kDeliveryPatience) after the last
-  // byte, and a request older than the response timeout is released as timed out.
+  // decided once that is Framer::decidable_at() (t3.5 + resolution, at least
+  // kDeliveryPatience, after the last byte; see Framer::quiet_to_decide()), and a request
+  // older than the response timeout is released as timed out.
   // push() does the same with each chunk's time before its bytes; a live capture also
   // calls it while the line is quiet. Both decide at the same point of the byte stream,
   // so a live run and the replay of its recording give identical records.

@@ -186,8 +186,8 @@ class Framer {
   [[nodiscard]] Nanos delivery_allowance() const {
     return std::max(resolution_, kDeliveryPatience);
   }
-  // Twice that for a frame whose length rule says its rest is still to come, after a read as
-  // large as any the adapter has given: such a read shows a full packet, sent because the
+  // Twice that for a head whose rest is still to come (head_awaits_its_rest()), after a read
+  // as large as any the adapter has given: such a read shows a full packet, sent because the
   // adapter's buffer filled rather than because the line went idle, so the rest may wait
   // for the next idle line, after further frames (an adapter that sends when the line has
   // been idle, on a bus polled faster than its idle wait). Only then: elsewhere the quiet
@@ -197,8 +197,16 @@ class Framer {
     const bool rest_held = last_read_filled_ && head_awaits_its_rest();
     return t3_5_ + (rest_held ? 2 : 1) * delivery_allowance();
   }
+  // Whether the head is no frame yet and may still become one with more bytes: its length
+  // rule says so, or, with none, its CRC search (where one was made) found no zero and may
+  // run on (no silence ended it, and it is shorter than the longest frame).
   [[nodiscard]] bool head_awaits_its_rest() const {
-    return buffered() > 0 && predicted_length(0) > buffered();
+    if (buffered() == 0) return false;
+    const std::size_t predicted = predicted_length(0);
+    if (predicted != 0) return predicted > buffered();
+    const CrcScan* scan = crc_scans_.find(consumed_, resolution_);
+    return scan != nullptr && !scan->found_zero && !scan->ended_at_silence &&
+           scan->scanned < kMaxAdu;
   }
   void decide_after_silence();  // advance() once the line was quiet long enough
   bool push_first_byte_if_it_waits(std::uint8_t byte, Nanos now, std::uint64_t origin);

@@ -363,6 +363,34 @@ TEST(FramerResync, ASpanThatHoldsRealFramesIsNoFrameWhenASilenceFollowsIt) {
   EXPECT_EQ(outcome.whole, outcome.sent);
 }
 
+// Polls of `registers` holding registers on a bus polled faster than an adapter's idle wait:
+// four, then (where `noise` is not empty) a fifth whose answer comes 3 ms after a burst of
+// `noise` 5 ms after its request, then a request 5 ms after the last answer, before an idle
+// wait of eight character times runs out. Returns the frames sent.
+std::vector<std::vector<std::uint8_t>> add_polls_with_a_held_rest(
+    BusBuilder& bus, std::uint8_t registers, const std::vector<std::uint8_t>& noise) {
+  const auto request = with_crc({0x01, 0x03, 0x00, 0x00, 0x00, registers});
+  std::vector<std::uint8_t> body = {0x01, 0x03, static_cast<std::uint8_t>(2 * registers)};
+  for (unsigned i = 0; i < 2U * registers; ++i) {
+    body.push_back(static_cast<std::uint8_t>(i * 37 + 11));
+  }
+  const auto answer = with_crc(body);
+  std::vector<std::vector<std::uint8_t>> sent;
+  for (int poll = 0; poll < 4; ++poll) {
+    bus.add(request, 40 * kMs).add(answer, 15 * kMs);
+    sent.push_back(request);
+    sent.push_back(answer);
+  }
+  if (!noise.empty()) {
+    bus.add(request, 40 * kMs).add(noise, 5 * kMs).add(answer, 3 * kMs);
+    sent.push_back(request);
+    sent.push_back(answer);
+  }
+  bus.add(request, 5 * kMs);
+  sent.push_back(request);
+  return sent;
+}
+
 // An adapter that sends when the line has been idle for eight character times, or when 32
 // bytes wait, on a bus polled faster than that: the last bytes of a 69-byte answer, after
 // two full packets, wait until the line goes idle after the master's next request, about
@@ -373,29 +401,43 @@ TEST(FramerDelivery, TheRestOfAFrameAfterFullPacketsWaitsForTheNextIdleLine) {
   LineSettings line;
   line.baud = 9600;
   BusBuilder bus(line);
-  const auto request = with_crc({0x01, 0x03, 0x00, 0x00, 0x00, 0x20});
-  std::vector<std::uint8_t> body = {0x01, 0x03, 0x40};
-  for (unsigned i = 0; i < 64; ++i) body.push_back(static_cast<std::uint8_t>(i * 37 + 11));
-  const auto answer = with_crc(body);
-  std::vector<std::vector<std::uint8_t>> sent;
-  for (int poll = 0; poll < 4; ++poll) {
-    bus.add(request, 40 * kMs).add(answer, 15 * kMs);
-    sent.push_back(request);
-    sent.push_back(answer);
-  }
-  bus.add(request, 5 * kMs);  // before the adapter's idle wait (9.2 ms) runs out
-  sent.push_back(request);
+  const auto sent = add_polls_with_a_held_rest(bus, 0x20, {});
   const auto reads = bus.idle_flush(8 * line.char_time(), 32);
-  const auto records = run(reads, line, 10 * kMs);
-  const Outcome outcome = score(records, sent);
+  const Outcome outcome = score(run(reads, line, 10 * kMs), sent);
   EXPECT_EQ(outcome.invented, 0U);
   EXPECT_EQ(outcome.whole, sent.size());
   // The last answer's rest came in one read with the request after it, long after the
   // answer's full packets: more than t3.5 and the allowance once, less than twice.
   ASSERT_GE(reads.size(), 2U);
   const Chunk& rest = reads.back();
-  EXPECT_EQ(rest.bytes.size(), 5U + request.size());
+  EXPECT_EQ(rest.bytes.size(), 5U + sent.back().size());
   const Nanos held = rest.t_end - reads[reads.size() - 2].t_end;
+  EXPECT_GT(held, line.t3_5() + 20 * kMs);
+  EXPECT_LT(held, line.t3_5() + 40 * kMs);
+}
+
+// The same where a noise burst of no length rule came between the request and its answer
+// (53 bytes): the head after the request is that noise, which no CRC zero ends yet, and it
+// too waits for the rest. The answer comes whole and the noise stays noise.
+TEST(FramerDelivery, NoiseBeforeAnAnswerWhoseRestIsHeldWaitsForTheRestToo) {
+  LineSettings line;
+  line.baud = 9600;
+  BusBuilder bus(line);
+  const std::vector<std::uint8_t> noise = {0x60, 0x48, 0x4F, 0x92, 0x69, 0xFB, 0x29};
+  const auto sent = add_polls_with_a_held_rest(bus, 24, noise);
+  const auto reads = bus.idle_flush(8 * line.char_time(), 32);
+  const auto records = run(reads, line, 10 * kMs);
+  const Outcome outcome = score(records, sent);
+  EXPECT_EQ(outcome.invented, 0U);
+  EXPECT_EQ(outcome.whole, sent.size());
+  const bool noise_alone = std::any_of(records.begin(), records.end(), [&](const Record& r) {
+    return r.kind == RecordKind::kNoise && bytes_of(r) == noise;
+  });
+  EXPECT_TRUE(noise_alone);
+  ASSERT_GE(reads.size(), 3U);
+  EXPECT_EQ(reads[reads.size() - 2].bytes.size(), 32U);  // the answer's full packets
+  EXPECT_EQ(reads[reads.size() - 3].bytes.size(), 32U);
+  const Nanos held = reads.back().t_end - reads[reads.size() - 2].t_end;
   EXPECT_GT(held, line.t3_5() + 20 * kMs);
   EXPECT_LT(held, line.t3_5() + 40 * kMs);
 }

@@ -257,6 +257,16 @@ bool Framer::contiguous_at(std::size_t pos) const {
   return gap != kUnknownTime && gap + resolution_ < char_time_ / 2;
 }
 
+// The first position in (0, length) after a silence longer than t1.5 beyond what the
+// resolution may hide (what emit_frame flags as kT15); `length` where there is none.
+std::size_t Framer::first_t15_silence(std::size_t length) const {
+  for (std::size_t pos = 1; pos < length; ++pos) {
+    const Nanos gap = info_at(pos).gap_before;
+    if (gap != kUnknownTime && gap - resolution_ > t1_5_) return pos;
+  }
+  return length;
+}
+
 bool Framer::awaited_response_at(std::size_t pos) const {
   return expect_response_ && buffered() - pos >= 2 && byte_at(pos) == expected_slave_ &&
          (byte_at(pos + 1) & 0x7FU) == (expected_function_ & 0x7FU);
@@ -734,7 +744,8 @@ std::size_t Framer::first_whole_frame_before(std::size_t end) const {
 void Framer::classify_span(std::size_t length) {
   // A fragment of the awaited answer is a truncated frame even when very short.
   const std::size_t min_frame = awaited_response_at(0) ? 3 : kMinAdu;
-  if (length >= min_frame && plausible_start(0)) {
+  const bool frame_like = length >= min_frame && plausible_start(0);
+  if (frame_like) {
     // A CRC-valid prefix is a whole frame (one with no length rule, e.g. FC08/00), and
     // what follows it is the next record.
     std::uint16_t crc = kCrcInit;
@@ -745,9 +756,20 @@ void Framer::classify_span(std::size_t length) {
         return;
       }
     }
+  }
+  // No frame holds here, and the timestamps show the line silent for longer than t1.5
+  // inside: a sender stopped there (a glitch, then a frame; a frame cut short, then noise).
+  // That part is a record of its own, and what follows the silence is decided afresh;
+  // unless the frame's length rule says it goes on past the silence (a slow sender's pause
+  // inside its frame, the frame then damaged or cut short).
+  const std::size_t predicted = frame_like ? predicted_length(0) : 0;
+  if (const std::size_t cut = first_t15_silence(length); cut < length && predicted <= cut) {
+    classify_span(cut);
+    return;
+  }
+  if (frame_like) {
     // A frame with a bad CRC, then more bytes; but never a cut where the timestamps show
     // the line was not silent: those bytes came from one sender in one go.
-    const std::size_t predicted = predicted_length(0);
     if (predicted >= kMinAdu && predicted < length && !contiguous_at(predicted)) {
       emit_frame(predicted);
       return;

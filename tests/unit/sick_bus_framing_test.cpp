@@ -21,6 +21,13 @@ std::vector<std::uint8_t> bytes_of(const Record& r) {
   return {r.bytes().begin(), r.bytes().end()};
 }
 
+// Slave 5 polled at 19200 baud (t1.5 0.86 ms, t3.5 2.0 ms): the bus several tests disturb.
+struct PolledSlave {
+  LineSettings line{19200};
+  std::vector<std::uint8_t> request = with_crc({0x05, 0x03, 0x00, 0x10, 0x00, 0x01});
+  std::vector<std::uint8_t> response = with_crc({0x05, 0x03, 0x02, 0x01, 0x02});
+};
+
 std::vector<Record> frame(const std::vector<Chunk>& chunks, const LineSettings& line,
                           Nanos resolution) {
   CollectingSink sink;
@@ -48,10 +55,8 @@ TEST(SickBusFraming, DamagedRequestSentInOneGoStaysOneFrame) {
 }
 
 TEST(SickBusFraming, GlitchAfterResponseIsTheSendersAndDoesNotHideT35) {
-  LineSettings line;
-  line.baud = 19200;
-  const auto request = with_crc({0x05, 0x03, 0x00, 0x10, 0x00, 0x01});
-  const auto response = with_crc({0x05, 0x03, 0x02, 0x01, 0x02});
+  const PolledSlave polled;
+  const auto& [line, request, response] = polled;
   BusBuilder bus(line);
   // The master polls again 1 ms after the glitch: less than t3.5 (1.75 ms) after the
   // response, whatever the glitch byte.
@@ -65,10 +70,8 @@ TEST(SickBusFraming, GlitchAfterResponseIsTheSendersAndDoesNotHideT35) {
 }
 
 TEST(SickBusFraming, GlitchDoesNotInventAViolation) {
-  LineSettings line;
-  line.baud = 19200;
-  const auto request = with_crc({0x05, 0x03, 0x00, 0x10, 0x00, 0x01});
-  const auto response = with_crc({0x05, 0x03, 0x02, 0x01, 0x02});
+  const PolledSlave polled;
+  const auto& [line, request, response] = polled;
   BusBuilder bus(line);
   bus.add(request, 0).add(response, 3 * kMs).add({0x00}, 50 * kUs).add(request, 20 * kMs);
   const auto records = frame(bus.per_byte(), line, kUs);
@@ -129,6 +132,67 @@ TEST(SickBusFraming, PerByteSourceKeepsRealPausesInsideFrames) {
   EXPECT_TRUE(sink.records[1].crc_ok);
   EXPECT_TRUE(sink.records[1].issues.has(IssueId::kT15));
   EXPECT_EQ(framer.resolution(), kUs);
+}
+
+// A poll and its answer, then `first`, `second` 1.2 ms after it (more than t1.5, less than
+// t3.5), and the next poll, framed from per-byte timestamps.
+std::vector<Record> around_a_t15_pause(const std::vector<std::uint8_t>& first,
+                                       const std::vector<std::uint8_t>& second) {
+  const PolledSlave polled;
+  BusBuilder bus(polled.line);
+  bus.add(polled.request, 0).add(polled.response, 3 * kMs);
+  bus.add(first, 20 * kMs).add(second, 1200 * kUs).add(polled.request, 20 * kMs);
+  return frame(bus.per_byte(), polled.line, kUs);
+}
+
+// A pause longer than t1.5 that the per-byte timestamps show, inside bytes that hold no
+// valid frame: two senders, or one that stopped. Each side is a record of its own.
+TEST(SickBusFraming, GlitchThenADamagedFrameAfterMoreThanT15AreTwoRecords) {
+  auto damaged = PolledSlave{}.request;
+  damaged[3] ^= 0x04U;
+  const std::vector<std::uint8_t> glitch = {0x00, 0x00};
+  const auto records = around_a_t15_pause(glitch, damaged);
+  ASSERT_EQ(records.size(), 5U);
+  EXPECT_EQ(records[2].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[2]), glitch);
+  EXPECT_EQ(records[3].kind, RecordKind::kFrame);
+  EXPECT_EQ(bytes_of(records[3]), damaged);
+  EXPECT_FALSE(records[3].crc_ok);
+  EXPECT_TRUE(records[4].crc_ok);
+}
+
+TEST(SickBusFraming, DamagedFrameOfNoLengthRuleThenNoiseAfterMoreThanT15AreTwoRecords) {
+  // Diagnostics, return query data (FC08/0000): its length is the master's choice.
+  auto damaged = with_crc({0x05, 0x08, 0x00, 0x00, 0x12, 0x34, 0x56});
+  damaged[5] ^= 0x10U;
+  const std::vector<std::uint8_t> burst = {0xA5, 0x5A, 0x3C};
+  const auto records = around_a_t15_pause(damaged, burst);
+  ASSERT_EQ(records.size(), 5U);
+  EXPECT_EQ(records[2].kind, RecordKind::kFrame);
+  EXPECT_EQ(bytes_of(records[2]), damaged);
+  EXPECT_FALSE(records[2].crc_ok);
+  EXPECT_EQ(records[3].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[3]), burst);
+  EXPECT_TRUE(records[4].crc_ok);
+}
+
+// A slow sender's pause inside its frame, the frame then damaged: its length rule goes on
+// past the pause, so the bytes after it are still the frame's.
+TEST(SickBusFraming, DamagedFrameWhoseLengthGoesOnPastAPauseStaysOneFrame) {
+  LineSettings line;
+  line.baud = 19200;
+  const auto request = with_crc({0x05, 0x03, 0x00, 0x00, 0x00, 0x02});
+  auto response = with_crc({0x05, 0x03, 0x04, 0x01, 0x02, 0x03, 0x04});
+  response[6] ^= 0x01U;
+  const std::vector<std::uint8_t> head(response.begin(), response.begin() + 4);
+  const std::vector<std::uint8_t> tail(response.begin() + 4, response.end());
+  BusBuilder bus(line);
+  bus.add(request, 0).add(head, 5 * kMs).add(tail, 1200 * kUs).add(request, 20 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 3U);
+  EXPECT_EQ(bytes_of(records[1]), response);
+  EXPECT_FALSE(records[1].crc_ok);
+  EXPECT_TRUE(records[1].issues.has(IssueId::kT15));
 }
 
 // Two ports (the directions of a link): a response that starts before its request's last

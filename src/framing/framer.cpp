@@ -257,6 +257,20 @@ bool Framer::contiguous_at(std::size_t pos) const {
   return gap != kUnknownTime && gap + resolution_ < char_time_ / 2;
 }
 
+// Bytes [pos, end) start like a frame (plausible_start) that every length rule it may be
+// read by, as a request or as a response, asks more bytes of.
+bool Framer::starts_a_cut_frame(std::size_t pos, std::size_t end) const {
+  if (!plausible_start(pos)) return false;
+  const std::span<const std::uint8_t> view(bytes_.data() + begin_ + pos, end - pos);
+  for (const Role role : {Role::kRequest, Role::kResponse}) {
+    const Shape shape = predict_shape(view, role);
+    const bool longer = shape.status == ShapeStatus::kNeedMore ||
+                        (shape.status == ShapeStatus::kLength && shape.value > view.size());
+    if (!longer && shape.status != ShapeStatus::kImpossible) return false;
+  }
+  return true;
+}
+
 // The first position in (0, length) after a silence longer than t1.5 beyond what the
 // resolution may hide (what emit_frame flags as kT15); `length` where there is none.
 std::size_t Framer::first_t15_silence(std::size_t length) const {
@@ -769,8 +783,12 @@ void Framer::classify_span(std::size_t length) {
   }
   if (frame_like) {
     // A frame with a bad CRC, then more bytes; but never a cut where the timestamps show
-    // the line was not silent: those bytes came from one sender in one go.
-    if (predicted >= kMinAdu && predicted < length && !contiguous_at(predicted)) {
+    // the line was not silent: those bytes came from one sender in one go. Nor where what
+    // would follow the cut is the start of a frame that the span's end cuts short: a
+    // damaged function code whose length rule is shorter than the frame leaves that too,
+    // and two broken records where one was sent.
+    if (predicted >= kMinAdu && predicted < length && !contiguous_at(predicted) &&
+        !starts_a_cut_frame(predicted, length)) {
       emit_frame(predicted);
       return;
     }

@@ -195,6 +195,45 @@ TEST(SickBusFraming, DamagedFrameWhoseLengthGoesOnPastAPauseStaysOneFrame) {
   EXPECT_TRUE(records[1].issues.has(IssueId::kT15));
 }
 
+// Through an adapter that hides the gaps, a flipped bit turned a request's function code
+// into one whose rule is shorter (03 -> 0B, 4 bytes). Cut there, its last four bytes would
+// read as the start of a broadcast whose rule asks for more: two broken records where one
+// was sent. It stays one damaged frame.
+TEST(SickBusFraming, DamagedFunctionCodeDoesNotCutAFrameIntoTwoBrokenOnes) {
+  const PolledSlave polled;
+  const auto broadcast = with_crc({0x00, 0x06, 0x00, 0x01, 0x00, 0x02});
+  auto damaged = polled.request;
+  damaged[1] = 0x0B;
+  BusBuilder bus(polled.line);
+  bus.add(broadcast, 0).add(polled.request, 60 * kMs).add(polled.response, 3 * kMs);
+  bus.add(damaged, 60 * kMs).add(polled.request, 60 * kMs).add(polled.response, 3 * kMs);
+  const auto records = frame(bus.batched(16 * kMs), polled.line, 16 * kMs);
+  ASSERT_EQ(records.size(), 6U);
+  EXPECT_EQ(bytes_of(records[3]), damaged);
+  EXPECT_FALSE(records[3].crc_ok);
+  EXPECT_EQ(bytes_of(records[4]), polled.request);
+  EXPECT_TRUE(records[4].crc_ok);
+}
+
+// The other side of that rule: what follows a damaged answer's length is the master's next
+// request, which read as the answer still awaited would ask for 89 bytes. As a request it is
+// whole, so the cut stands.
+TEST(SickBusFraming, RequestRightAfterADamagedAnswerIsCutFromIt) {
+  const PolledSlave polled;
+  auto damaged = polled.response;
+  damaged[3] ^= 0x20U;
+  const auto next = with_crc({0x05, 0x03, 0x54, 0x50, 0x00, 0x01});
+  BusBuilder bus(polled.line);
+  bus.add(polled.request, 0).add(polled.response, 3 * kMs);
+  bus.add(polled.request, 60 * kMs).add(damaged, 3 * kMs).add(next, 3 * kMs);
+  bus.add(polled.response, 3 * kMs).add(polled.request, 60 * kMs);
+  const auto records = frame(bus.batched(16 * kMs), polled.line, 16 * kMs);
+  ASSERT_EQ(records.size(), 7U);
+  EXPECT_EQ(bytes_of(records[3]), damaged);
+  EXPECT_EQ(bytes_of(records[4]), next);
+  EXPECT_TRUE(records[4].crc_ok);
+}
+
 // Two ports (the directions of a link): a response that starts before its request's last
 // byte was read on the other port is still two frames, paired.
 TEST(SickBusFraming, TwoPortsAreFramedApartAndMergedByTime) {

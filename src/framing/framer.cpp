@@ -281,6 +281,15 @@ std::size_t Framer::first_t15_silence(std::size_t length) const {
   return length;
 }
 
+bool Framer::awaited_answer_awaits_its_rest() const {
+  if (!expect_response_) return false;
+  const std::size_t n = buffered();
+  for (std::size_t pos = 1; pos + 1 < n; ++pos) {
+    if (awaited_response_at(pos) && predicted_length(pos) > n - pos) return true;
+  }
+  return false;
+}
+
 bool Framer::awaited_response_at(std::size_t pos) const {
   return expect_response_ && buffered() - pos >= 2 && byte_at(pos) == expected_slave_ &&
          (byte_at(pos + 1) & 0x7FU) == (expected_function_ & 0x7FU);

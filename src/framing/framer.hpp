@@ -80,11 +80,11 @@ class Framer {
   // quiet: both reach the same decision at the same point of the byte stream, so a live
   // run and the replay of its recording give the same records.
   void advance(Nanos now) {
-    // Asked at every read, and nearly always too soon: that answer inline.
-    if ((buffered() == 0 && noise_.size == 0) || last_byte_end_ == kUnknownTime ||
-        now - last_byte_end_ < quiet_to_decide()) {
-      return;
-    }
+    // Asked at every read, and nearly always too soon: that answer inline, and before asking
+    // whether a frame's rest is held (a look over the window), which only lengthens the wait.
+    if ((buffered() == 0 && noise_.size == 0) || last_byte_end_ == kUnknownTime) return;
+    const Nanos quiet = now - last_byte_end_;
+    if (quiet < t3_5_ + delivery_allowance() || quiet < quiet_to_decide()) return;
     decide_after_silence();
   }
   // push() of a one-byte read (one ByteReads::holds: `byte`, completed at `t_end`) that
@@ -199,15 +199,20 @@ class Framer {
   }
   // Whether the head is no frame yet and may still become one with more bytes: its length
   // rule says so, or, with none, its CRC search (where one was made) found no zero and may
-  // run on (no silence ended it, and it is shorter than the longest frame).
+  // run on (no silence ended it, and it is shorter than the longest frame). Or the head is
+  // noise and the awaited answer after it awaits its rest.
   [[nodiscard]] bool head_awaits_its_rest() const {
     if (buffered() == 0) return false;
+    if (awaited_answer_awaits_its_rest()) return true;
     const std::size_t predicted = predicted_length(0);
     if (predicted != 0) return predicted > buffered();
     const CrcScan* scan = crc_scans_.find(consumed_, resolution_);
     return scan != nullptr && !scan->found_zero && !scan->ended_at_silence &&
            scan->scanned < kMaxAdu;
   }
+  // The answer the bus awaits starts after bytes that are no frame (noise before it), and
+  // its length rule says more of it is still to come.
+  [[nodiscard]] bool awaited_answer_awaits_its_rest() const;
   void decide_after_silence();  // advance() once the line was quiet long enough
   bool push_first_byte_if_it_waits(std::uint8_t byte, Nanos now, std::uint64_t origin);
   std::size_t push_reads_to_waiting_head(const std::uint8_t* bytes, const Nanos* t_ends,

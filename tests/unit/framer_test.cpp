@@ -416,14 +416,12 @@ TEST(FramerDelivery, TheRestOfAFrameAfterFullPacketsWaitsForTheNextIdleLine) {
   EXPECT_LT(held, line.t3_5() + 40 * kMs);
 }
 
-// The same where a noise burst of no length rule came between the request and its answer
-// (53 bytes): the head after the request is that noise, which no CRC zero ends yet, and it
-// too waits for the rest. The answer comes whole and the noise stays noise.
-TEST(FramerDelivery, NoiseBeforeAnAnswerWhoseRestIsHeldWaitsForTheRestToo) {
+// A poll whose answer comes 3 ms after a burst of `noise`, where the answer's rest is held
+// behind its full packets as above: the answer comes whole and the noise stays noise.
+void expect_the_answer_after_noise_to_wait_for_its_rest(const std::vector<std::uint8_t>& noise) {
   LineSettings line;
   line.baud = 9600;
   BusBuilder bus(line);
-  const std::vector<std::uint8_t> noise = {0x60, 0x48, 0x4F, 0x92, 0x69, 0xFB, 0x29};
   const auto sent = add_polls_with_a_held_rest(bus, 24, noise);
   const auto reads = bus.idle_flush(8 * line.char_time(), 32);
   const auto records = run(reads, line, 10 * kMs);
@@ -440,6 +438,18 @@ TEST(FramerDelivery, NoiseBeforeAnAnswerWhoseRestIsHeldWaitsForTheRestToo) {
   const Nanos held = reads.back().t_end - reads[reads.size() - 2].t_end;
   EXPECT_GT(held, line.t3_5() + 20 * kMs);
   EXPECT_LT(held, line.t3_5() + 40 * kMs);
+}
+
+// Noise of no length rule (53 bytes): the head after the request is that noise, which no
+// CRC zero ends yet, and it too waits for the rest.
+TEST(FramerDelivery, NoiseBeforeAnAnswerWhoseRestIsHeldWaitsForTheRestToo) {
+  expect_the_answer_after_noise_to_wait_for_its_rest({0x60, 0x48, 0x4F, 0x92, 0x69, 0xFB, 0x29});
+}
+
+// Noise that reads as a whole exception answer (slave 0x46, function 0xF1: 5 bytes, CRC
+// bad): the head awaits nothing, but the awaited answer after it still awaits its rest.
+TEST(FramerDelivery, NoiseOfAWholeLengthBeforeAnAnswerWhoseRestIsHeldWaitsForTheRestToo) {
+  expect_the_answer_after_noise_to_wait_for_its_rest({0x46, 0xF1, 0x32, 0x14, 0xE7, 0x93, 0x8E});
 }
 
 // Noise whose bytes read as a long frame's byte count (here FC 0x14 announcing 190 bytes)

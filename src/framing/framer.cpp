@@ -281,6 +281,14 @@ std::size_t Framer::first_t15_silence(std::size_t length) const {
   return length;
 }
 
+// At least half a character of silence before the byte at `pos`, beyond what the resolution
+// may hide: the opposite of contiguous_at(), where the timestamps show either.
+bool Framer::paused_before(std::size_t pos) const {
+  if (pos == 0 || pos >= buffered()) return false;
+  const Nanos gap = info_at(pos).gap_before;
+  return gap != kUnknownTime && gap - resolution_ >= char_time_ / 2;
+}
+
 bool Framer::awaited_answer_awaits_its_rest() const {
   if (!expect_response_) return false;
   const std::size_t n = buffered();
@@ -451,8 +459,18 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
       return true;
     }
     if (boundary_at(next)) {
-      if (holds_frames(len)) return false;
-      found = len;
+      // Only bytes 00 between an earlier CRC zero and the silence, the first of them after
+      // a pause the timestamps show: the frame ended at that zero, and the 00s are its
+      // sender's turnaround (appending 00 keeps a CRC valid; a frame's own bytes come back
+      // to back).
+      const std::uint8_t* const at = bytes_.data() + begin_ + pos;
+      const std::size_t end =
+          first_zero != 0 && paused_before(pos + first_zero) &&
+                  std::all_of(at + first_zero, at + len, [](std::uint8_t b) { return b == 0; })
+              ? first_zero
+              : len;
+      if (holds_frames(end)) return false;
+      found = end;
       return true;
     }
     bool next_pending = false;

@@ -281,6 +281,7 @@ class Framer {
                                                std::size_t limit) const;
   std::size_t first_silence(std::size_t from, std::size_t to) const;
   bool contiguous_at(std::size_t pos) const;
+  [[nodiscard]] bool paused_before(std::size_t pos) const;
   [[nodiscard]] std::size_t first_t15_silence(std::size_t length) const;
   [[nodiscard]] bool starts_a_cut_frame(std::size_t pos, std::size_t end) const;
   bool is_turnaround_glitch(const Record& noise) const;

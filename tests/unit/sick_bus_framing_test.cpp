@@ -234,6 +234,48 @@ TEST(SickBusFraming, RequestRightAfterADamagedAnswerIsCutFromIt) {
   EXPECT_TRUE(records[4].crc_ok);
 }
 
+// Diagnostics, return query data (FC08/0000) from slave 5: a frame of no length rule, whose
+// end only its CRC shows. With `crc_high_zero`, data whose CRC's last byte is 00.
+std::vector<std::uint8_t> echo_request(bool crc_high_zero) {
+  for (unsigned data = 0;; ++data) {
+    auto frame = with_crc({0x05, 0x08, 0x00, 0x00, static_cast<std::uint8_t>(data >> 8U),
+                           static_cast<std::uint8_t>(data)});
+    if ((frame.back() == 0x00) == crc_high_zero) return frame;
+  }
+}
+
+// Appending 00 keeps a Modbus CRC valid, so a frame of no length rule followed by a 00
+// turnaround byte and then a silence holds its CRC both without and with that byte. Where
+// the timestamps show a pause before the 00 (96 us at 115200 baud, a character), the frame
+// ends before it.
+TEST(SickBusFraming, ZeroByteAfterAPauseBeforeASilenceIsTheSendersTurnaround) {
+  LineSettings line{115200};
+  const auto request = echo_request(false);
+  const std::vector<std::uint8_t> glitch = {0x00};
+  BusBuilder bus(line);
+  bus.add(request, 0).add(glitch, 96 * kUs).add(request, 10 * kMs).add(request, 50 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 4U);
+  EXPECT_EQ(bytes_of(records[0]), request);
+  EXPECT_EQ(records[1].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[1]), glitch);
+  EXPECT_EQ(bytes_of(records[2]), request);
+}
+
+// A frame whose CRC ends in 00, its bytes back to back, before a silence: the 00 is its own.
+TEST(SickBusFraming, CrcEndingInZeroSentBackToBackStaysWhole) {
+  LineSettings line{115200};
+  const auto request = echo_request(true);
+  BusBuilder bus(line);
+  bus.add(request, 0).add(request, 10 * kMs).add(request, 50 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 3U);
+  for (const Record& r : records) {
+    EXPECT_EQ(bytes_of(r), request);
+    EXPECT_TRUE(r.crc_ok);
+  }
+}
+
 // Two ports (the directions of a link): a response that starts before its request's last
 // byte was read on the other port is still two frames, paired.
 TEST(SickBusFraming, TwoPortsAreFramedApartAndMergedByTime) {

@@ -289,6 +289,8 @@ bool Framer::paused_before(std::size_t pos) const {
   return gap != kUnknownTime && gap - resolution_ >= char_time_ / 2;
 }
 
+// Every start of the awaited answer after the head is looked at: noise may begin with its
+// slave and function too.
 bool Framer::awaited_answer_awaits_its_rest() const {
   if (!expect_response_) return false;
   const std::size_t n = buffered();

@@ -203,12 +203,16 @@ class Framer {
   // noise and the awaited answer after it awaits its rest.
   [[nodiscard]] bool head_awaits_its_rest() const {
     if (buffered() == 0) return false;
-    if (awaited_answer_awaits_its_rest()) return true;
     const std::size_t predicted = predicted_length(0);
-    if (predicted != 0) return predicted > buffered();
-    const CrcScan* scan = crc_scans_.find(consumed_, resolution_);
-    return scan != nullptr && !scan->found_zero && !scan->ended_at_silence &&
-           scan->scanned < kMaxAdu;
+    if (predicted > buffered()) return true;
+    if (predicted == 0) {
+      const CrcScan* scan = crc_scans_.find(consumed_, resolution_);
+      if (scan != nullptr && !scan->found_zero && !scan->ended_at_silence &&
+          scan->scanned < kMaxAdu) {
+        return true;
+      }
+    }
+    return awaited_answer_awaits_its_rest();  // a look over the window: asked last
   }
   // The answer the bus awaits starts after bytes that are no frame (noise before it), and
   // its length rule says more of it is still to come.

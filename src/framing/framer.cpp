@@ -271,12 +271,11 @@ bool Framer::starts_a_cut_frame(std::size_t pos, std::size_t end) const {
   return true;
 }
 
-// The first position in (0, length) after a silence longer than t1.5 beyond what the
-// resolution may hide (what emit_frame flags as kT15); `length` where there is none.
+// The first position in (0, length) after a pause that breaks t1.5; `length` where there is
+// none.
 std::size_t Framer::first_t15_silence(std::size_t length) const {
   for (std::size_t pos = 1; pos < length; ++pos) {
-    const Nanos gap = info_at(pos).gap_before;
-    if (gap != kUnknownTime && gap - resolution_ > t1_5_) return pos;
+    if (breaks_t15(info_at(pos).gap_before)) return pos;
   }
   return length;
 }
@@ -861,7 +860,7 @@ void Framer::emit_frame(std::size_t length, bool crc_confirmed) {
   // decides both what it teaches and whether it breaks t1.5.
   if (rec.crc_ok && longest_inner_gap > resolution_) learn_from(rec);
   const Nanos res = resolution_;
-  if (longest_inner_gap != kUnknownTime && longest_inner_gap - res > t1_5_) {
+  if (breaks_t15(longest_inner_gap)) {
     rec.issues.add(IssueId::kT15);
   }
   // Silence since the previous frame; a turnaround glitch between them does not hide it.

@@ -279,6 +279,11 @@ class Framer {
   bool boundary_at(std::size_t pos) const;
   [[nodiscard]] bool read_bounded(std::size_t pos, std::size_t length) const;
   [[nodiscard]] bool silence_before(Nanos gap) const { return gap >= t3_5_ + resolution_; }
+  // A pause longer than t1.5 beyond what the resolution may hide: the kT15 flag, and where a
+  // span that holds no frame is cut (first_t15_silence()). An unknown gap is none.
+  [[nodiscard]] bool breaks_t15(Nanos gap) const {
+    return gap != kUnknownTime && gap - resolution_ > t1_5_;
+  }
   CrcScan& extended_scan(std::size_t pos) const;
   void run_crc_on(std::size_t pos, CrcScan& scan, std::size_t limit) const;
   [[gnu::noinline]] void extend_scan_otherwise(std::size_t pos, CrcScan& scan,

@@ -63,6 +63,24 @@ bool is_user_defined_function(std::uint8_t function) {
   return (function >= 65 && function <= 72) || (function >= 100 && function <= 110);
 }
 
+bool may_be_broadcast(std::uint8_t function) {
+  switch (function) {
+    case fc::kReadCoils:
+    case fc::kReadDiscreteInputs:
+    case fc::kReadHoldingRegisters:
+    case fc::kReadInputRegisters:
+    case fc::kReadExceptionStatus:
+    case fc::kGetCommEventCounter:
+    case fc::kGetCommEventLog:
+    case fc::kReportServerId:
+    case fc::kReadFileRecord:
+    case fc::kReadWriteMultipleRegisters:
+    case fc::kReadFifoQueue:
+    case fc::kEncapsulatedInterface: return false;
+    default: return true;
+  }
+}
+
 std::string_view function_name(std::uint8_t function) {
   const auto* f = find_function(function & 0x7FU);
   if (f != nullptr) return f->name;

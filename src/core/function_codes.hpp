@@ -34,6 +34,11 @@ bool is_public_function(std::uint8_t function);
 // User-defined ranges 65-72 and 100-110 (V1.1b3 §5).
 bool is_user_defined_function(std::uint8_t function);
 
+// Whether a request to address 0 (a broadcast) may carry `function`. Broadcast requests are
+// writes (MODBUS over Serial Line V1.02 §2.1): a public function that only reads never is
+// one. Writes, diagnostics and codes with no public meaning (a vendor's) may be.
+bool may_be_broadcast(std::uint8_t function);
+
 // "Read Holding Registers"; "Unknown function" for codes with no public meaning.
 std::string_view function_name(std::uint8_t function);
 // Short lowercase form for text output: "read holding".

@@ -803,9 +803,12 @@ void Framer::classify_span(std::size_t length) {
   // inside: a sender stopped there (a glitch, then a frame; a frame cut short, then noise).
   // That part is a record of its own, and what follows the silence is decided afresh;
   // unless the frame's length rule says it goes on past the silence (a slow sender's pause
-  // inside its frame, the frame then damaged or cut short).
+  // inside its frame, the frame then damaged or cut short). A read addressed to 0 has no
+  // rule that holds: a broadcast only writes, so that 0x00 is a glitch before a pause.
   const std::size_t predicted = frame_like ? predicted_length(0) : 0;
-  if (const std::size_t cut = first_t15_silence(length); cut < length && predicted <= cut) {
+  const bool broadcast_read = length >= 2 && byte_at(0) == 0 && !may_be_broadcast(byte_at(1));
+  if (const std::size_t cut = first_t15_silence(length);
+      cut < length && (predicted <= cut || broadcast_read)) {
     classify_span(cut);
     return;
   }

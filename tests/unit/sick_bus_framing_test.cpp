@@ -161,6 +161,30 @@ TEST(SickBusFraming, GlitchThenADamagedFrameAfterMoreThanT15AreTwoRecords) {
   EXPECT_TRUE(records[4].crc_ok);
 }
 
+// On a bus with broadcasts a 0x00 glitch reads as one's address; before a read's function
+// code it is none (a broadcast only writes), so its length rule does not hold the glitch and
+// the fragment after the pause together.
+TEST(SickBusFraming, ZeroGlitchBeforeAReadIsNoBroadcastThatSpansAPause) {
+  // Slave 3: after the glitch its address reads as function 03, a read.
+  const LineSettings line{19200};
+  const auto request = with_crc({0x03, 0x03, 0x00, 0x10, 0x00, 0x01});
+  const auto response = with_crc({0x03, 0x03, 0x02, 0x01, 0x02});
+  const auto broadcast = with_crc({0x00, 0x06, 0x00, 0x01, 0x00, 0x07});
+  const std::vector<std::uint8_t> glitch = {0x00};
+  const std::vector<std::uint8_t> fragment(request.begin(), request.begin() + 4);
+  BusBuilder bus(line);
+  bus.add(broadcast, 0).add(request, 20 * kMs).add(response, 3 * kMs);
+  bus.add(glitch, 20 * kMs).add(fragment, 1200 * kUs).add(request, 20 * kMs);
+  const auto records = frame(bus.per_byte(), line, kUs);
+  ASSERT_EQ(records.size(), 6U);
+  EXPECT_EQ(records[3].kind, RecordKind::kNoise);
+  EXPECT_EQ(bytes_of(records[3]), glitch);
+  EXPECT_EQ(records[4].kind, RecordKind::kFrame);
+  EXPECT_EQ(bytes_of(records[4]), fragment);
+  EXPECT_FALSE(records[4].crc_ok);
+  EXPECT_TRUE(records[5].crc_ok);
+}
+
 TEST(SickBusFraming, DamagedFrameOfNoLengthRuleThenNoiseAfterMoreThanT15AreTwoRecords) {
   // Diagnostics, return query data (FC08/0000): its length is the master's choice.
   auto damaged = with_crc({0x05, 0x08, 0x00, 0x00, 0x12, 0x34, 0x56});

@@ -65,19 +65,14 @@ bool is_user_defined_function(std::uint8_t function) {
 
 bool may_be_broadcast(std::uint8_t function) {
   switch (function) {
-    case fc::kReadCoils:
-    case fc::kReadDiscreteInputs:
-    case fc::kReadHoldingRegisters:
-    case fc::kReadInputRegisters:
-    case fc::kReadExceptionStatus:
-    case fc::kGetCommEventCounter:
-    case fc::kGetCommEventLog:
-    case fc::kReportServerId:
-    case fc::kReadFileRecord:
-    case fc::kReadWriteMultipleRegisters:
-    case fc::kReadFifoQueue:
-    case fc::kEncapsulatedInterface: return false;
-    default: return true;
+    case fc::kWriteSingleCoil:
+    case fc::kWriteSingleRegister:
+    case fc::kWriteMultipleCoils:
+    case fc::kWriteMultipleRegisters:
+    case fc::kWriteFileRecord:
+    case fc::kMaskWriteRegister:
+    case fc::kDiagnostics: return true;
+    default: return !is_public_function(function);
   }
 }
 

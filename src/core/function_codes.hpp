@@ -34,9 +34,10 @@ bool is_public_function(std::uint8_t function);
 // User-defined ranges 65-72 and 100-110 (V1.1b3 §5).
 bool is_user_defined_function(std::uint8_t function);
 
-// Whether a request to address 0 (a broadcast) may carry `function`. Broadcast requests are
-// writes (MODBUS over Serial Line V1.02 §2.1): a public function that only reads never is
-// one. Writes, diagnostics and codes with no public meaning (a vendor's) may be.
+// Whether a request to address 0 (a broadcast) may carry `function`. A broadcast is never
+// answered, so only writes make sense (MODBUS over Serial Line V1.02 §2.1): a public
+// function that reads never is one. Writes, diagnostics (some sub-functions only act) and
+// codes with no public meaning (a vendor's) may be.
 bool may_be_broadcast(std::uint8_t function);
 
 // "Read Holding Registers"; "Unknown function" for codes with no public meaning.

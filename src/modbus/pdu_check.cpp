@@ -31,25 +31,18 @@ unsigned max_write_qty(std::uint8_t function) {
   return function == fc::kWriteMultipleCoils ? 1968U : 123U;
 }
 
-// A broadcast is never answered, so only writes make sense (Serial Line V1.02 §2.1).
-// Diagnostics sub-functions that only act (restart, delimiter, listen only, clear) qualify.
+// A broadcast of a function that no broadcast may carry (may_be_broadcast), or of a
+// diagnostics sub-function that does more than act (restart, delimiter, listen only, clear).
 bool broadcast_useless(const DecodedPdu& pdu) {
   const PduHeader& h = pdu_header(pdu);
-  switch (h.function) {
-    case fc::kWriteSingleCoil:
-    case fc::kWriteSingleRegister:
-    case fc::kWriteMultipleCoils:
-    case fc::kWriteMultipleRegisters:
-    case fc::kWriteFileRecord:
-    case fc::kMaskWriteRegister: return false;
-    case fc::kDiagnostics:
-      if (const auto* d = std::get_if<DiagnosticsPdu>(&pdu)) {
-        const std::uint16_t s = d->sub_function;
-        return !(s == 0x01 || s == 0x03 || s == 0x04 || s == 0x0A || s == 0x14);
-      }
-      return true;
-    default: return is_public_function(h.function);
+  if (h.function == fc::kDiagnostics) {
+    if (const auto* d = std::get_if<DiagnosticsPdu>(&pdu)) {
+      const std::uint16_t s = d->sub_function;
+      return !(s == 0x01 || s == 0x03 || s == 0x04 || s == 0x0A || s == 0x14);
+    }
+    return true;
   }
+  return !may_be_broadcast(h.function);
 }
 
 void check_fields(IssueSet& /*issues*/, const RawPdu& /*p*/) {}

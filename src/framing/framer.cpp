@@ -448,6 +448,12 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
   const auto holds_frames = [&](std::size_t len) {
     return depth == kGenericDepth && holds_crc_chain({bytes_.data() + begin_ + pos, len});
   };
+  // Only bytes 00 between the first CRC zero and `len` (a CRC ending in 00 holds without
+  // them too, as appending 00 keeps a CRC valid).
+  const auto only_zeros_after_first_zero = [&](std::size_t len) {
+    const std::uint8_t* const at = bytes_.data() + begin_ + pos;
+    return std::all_of(at + first_zero, at + len, [](std::uint8_t b) { return b == 0x00; });
+  };
   const bool decided = scan.found_zero && scan.any_zero_length([&](std::size_t len) {
     const std::size_t next = pos + len;
     if (next == buffered()) {
@@ -462,12 +468,9 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
     if (boundary_at(next)) {
       // Only bytes 00 between an earlier CRC zero and the silence, the first of them after
       // a pause the timestamps show: the frame ended at that zero, and the 00s are its
-      // sender's turnaround (appending 00 keeps a CRC valid; a frame's own bytes come back
-      // to back).
-      const std::uint8_t* const at = bytes_.data() + begin_ + pos;
+      // sender's turnaround (a frame's own bytes come back to back).
       const std::size_t end =
-          first_zero != 0 && paused_before(pos + first_zero) &&
-                  std::all_of(at + first_zero, at + len, [](std::uint8_t b) { return b == 0; })
+          first_zero != 0 && paused_before(pos + first_zero) && only_zeros_after_first_zero(len)
               ? first_zero
               : len;
       if (holds_frames(end)) return false;
@@ -491,9 +494,7 @@ std::size_t Framer::generic_crc_length(std::size_t pos, bool at_end, int depth,
       longer_may_confirm = true;
     }
     if (first_zero == 0) first_zero = len;
-    const std::uint8_t* const at = bytes_.data() + begin_ + pos;
-    if (read_bounded(pos, len) &&
-        std::all_of(at + first_zero, at + len, [](std::uint8_t b) { return b == 0x00; })) {
+    if (read_bounded(pos, len) && only_zeros_after_first_zero(len)) {
       read_bounded_length = len;
     }
     return false;
